@@ -1,0 +1,1 @@
+"""What the FloodWatch processes share: frames, message schemas, key expressions and the radio."""

@@ -1,0 +1,40 @@
+"""What the onboard vision tells the control law, as one small frozen value.
+
+Offsets are metres on the ground relative to the point straight below the drone, along world axes
+(east, north): the perception step is given the drone's yaw and rotates image axes into the world.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+@dataclass(frozen=True)
+class PerceptionResult:
+    """One frame's measurement. ``has_edge`` is Algorithm 1's test: both land and water are in view."""
+
+    has_edge: bool
+    water_fraction: float
+    only_land: bool
+    only_water: bool
+    footprint_side_m: float
+    midpoint_offset_en_m: NDArray[np.float64] | None = None
+    """p − q of eq 5: midpoint of the land and water centroids, relative to the drone [m; east, north]."""
+    water_centroid_en_m: NDArray[np.float64] | None = None
+    land_centroid_en_m: NDArray[np.float64] | None = None
+    edge_normal_en: NDArray[np.float64] | None = None
+    """Unit vector across the edge, pointing from water to land."""
+    edge_tangent_en: NDArray[np.float64] | None = None
+    """Unit vector along the edge with water on its left (counter-clockwise round the flood)."""
+    edge_points_en_m: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
+    """Boundary pixels seen, as (K, 2) offsets from the drone [m; east, north]."""
+
+    @staticmethod
+    def no_measurement(footprint_side_m: float = 0.0) -> "PerceptionResult":
+        """A well-defined empty result for unusable input (empty image, NaN altitude, zero field of view)."""
+        return PerceptionResult(
+            has_edge=False, water_fraction=float("nan"), only_land=False, only_water=False, footprint_side_m=footprint_side_m
+        )
