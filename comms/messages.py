@@ -1,0 +1,425 @@
+"""Versioned, compact message schemas for everything that travels over Zenoh (never over MAVLink).
+
+Wire formats:
+
+* every message except the flood polygon is a MessagePack map (msgspec ``Struct``), self-describing so that any
+  Zenoh client in any language can read the public keys; the ``schema`` field names the type and its version
+  (``"fw/state/1"``) and is checked on decode;
+* the flood polygon is a GeoJSON Feature (RFC 7946: WGS84 ``[lon, lat]``, counter-clockwise outer ring) encoded as
+  UTF-8 JSON, so the rescue centre can use it without our code; its version is ``properties.schema``.
+
+``decode`` never raises: bad input (malformed, truncated, oversized, wrong version, non-finite numbers) returns
+None and is counted in a ``DecodeStats`` (by kind and reason), as SPEC §7 asks for every socket.
+
+Units and frames are in the field names: ``*_en_m`` is mission ENU east/north [m], ``*_enu_m`` east/north/up [m],
+``yaw_ned_rad`` is PX4 yaw (0 = north, clockwise). Conversions go through ``comms.frames``.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from typing import Annotated, Any, Literal, TypeVar, Union
+
+import msgspec
+import numpy as np
+from numpy.typing import ArrayLike
+
+from comms.frames import GeodeticHome, enu_to_geodetic
+
+Role = Literal["boundary", "leader", "follower"]
+Group = Literal["A", "B", ""]
+Point2 = tuple[float, float]
+Point3 = tuple[float, float, float]
+
+MAX_EDGE_POINTS = 256
+
+# Status flags carried in NeighbourState.flags (a bit field keeps the message small and extensible).
+FLAG_ARMED = 1 << 0
+FLAG_AIRBORNE = 1 << 1
+FLAG_OFFBOARD = 1 << 2
+FLAG_HAS_GPS = 1 << 3
+FLAG_SEES_EDGE = 1 << 4  # both land and water in the camera image (Algorithm 1 satisfied)
+FLAG_CLIMBING_TO_FIND_EDGE = 1 << 5  # Algorithm 1: only land or only water in view, climbing
+FLAG_LEADING = 1 << 6  # the leading drone of its boundary group (the one that meets the other group)
+FLAG_FAILSAFE = 1 << 7
+FLAG_LEAVING = 1 << 8  # the agent is leaving the swarm (vehicle lost, landing): neighbours should drop it
+FLAG_LOW_BATTERY = 1 << 9
+
+
+class DecodeError(ValueError):
+    """Raised inside decoding only; ``decode`` turns it into None plus a counted reason."""
+
+
+def _finite(*values: float) -> bool:
+    return all(math.isfinite(v) for v in values)
+
+
+def _finite_points(points: Iterable[Sequence[float]]) -> bool:
+    return all(math.isfinite(c) for p in points for c in p)
+
+
+class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
+    """What a drone broadcasts to its neighbours (and, on the public key, to anyone), typically at 20 Hz.
+
+    ``t_s`` is the sender's mission clock at the time of the estimate (source time); ``seq`` increases by one per
+    message so that receivers keep only the newest one when jitter reorders them. ``position_en_m`` is the
+    sender's own estimate in the mission frame (odometry for drones without GPS); ``lat_deg``/``lon_deg`` only when
+    it has a GPS fix. Boundary-drone extras (paper §III-A, Algorithm 1): ``group`` (A keeps water on its left,
+    B on its right), ``encircle_complete`` (the two groups' leading drones met), and ``edge_points_en_m``: points
+    of the water edge its camera sees, absolute mission ENU [m], for the ground station's caged polygon.
+    ``extras`` carries control-mode specific numbers (e.g. an improved mode's spacing consensus) by name.
+    """
+
+    sender_id: int
+    role: Role
+    seq: int
+    t_s: float
+    position_en_m: Point2
+    altitude_m: float
+    velocity_en_mps: Point2 = (0.0, 0.0)
+    velocity_up_mps: float = 0.0
+    yaw_ned_rad: float = 0.0
+    lat_deg: float | None = None
+    lon_deg: float | None = None
+    flags: int = 0
+    battery_fraction: float | None = None
+    group: Group = ""
+    encircle_complete: bool = False
+    edge_points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=MAX_EDGE_POINTS)] = []
+    extras: dict[str, float] = {}
+
+    def __post_init__(self) -> None:
+        if self.sender_id < 0 or self.seq < 0:
+            raise DecodeError("sender_id and seq must be >= 0")
+        if not _finite(self.t_s, *self.position_en_m, self.altitude_m, *self.velocity_en_mps, self.velocity_up_mps, self.yaw_ned_rad):
+            raise DecodeError("non-finite state")
+        if self.edge_points_en_m and not _finite_points(self.edge_points_en_m):
+            raise DecodeError("non-finite edge point")
+
+    def has(self, flag: int) -> bool:
+        return bool(self.flags & flag)
+
+
+class CameraFrame(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/camera/1"):
+    """One downward camera image as a companion computer would receive it (SPEC §3), with its pose metadata.
+
+    ``image`` is the encoded image (``encoding`` png/jpeg, or raw_bgr: height*width*3 uint8 bytes row-major).
+    The pose is what the vehicle knows at capture time: altitude above ground [m], yaw (NED) and the field of
+    view, which is all perception needs to turn pixels into metres (paper eq 5).
+    """
+
+    vehicle_id: int
+    seq: int
+    t_s: float
+    altitude_m: float
+    yaw_ned_rad: float
+    fov_deg: float
+    width_px: int
+    height_px: int
+    encoding: Literal["png", "jpeg", "raw_bgr"]
+    image: bytes
+
+    def __post_init__(self) -> None:
+        if not _finite(self.t_s, self.altitude_m, self.yaw_ned_rad, self.fov_deg):
+            raise DecodeError("non-finite pose")
+        if not (0 < self.width_px <= 8192 and 0 < self.height_px <= 8192):
+            raise DecodeError("bad image size")
+        if self.encoding == "raw_bgr" and len(self.image) != self.width_px * self.height_px * 3:
+            raise DecodeError("raw_bgr size mismatch")
+
+
+class BoundaryEdgePoints(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/edge/1"):
+    """Water-edge points one boundary drone sees at ``t_s``, absolute mission ENU [m] (for the caged polygon)."""
+
+    sender_id: int
+    seq: int
+    t_s: float
+    points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=4096)]
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.t_s) and _finite_points(self.points_en_m)):
+            raise DecodeError("non-finite edge points")
+
+
+class GroundTruth(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/truth/1"):
+    """Every vehicle's TRUE state at simulation time ``t_s`` (from the simulator; feeds the radio and metrics).
+
+    Parallel lists, one entry per vehicle: ids, positions mission ENU [m], velocities ENU [m/s], yaw NED [rad],
+    and whether the vehicle exists (a crashed/removed vehicle has ``alive`` False and is out of radio range).
+    """
+
+    t_s: float
+    vehicle_ids: list[int]
+    positions_enu_m: list[Point3]
+    velocities_enu_mps: list[Point3] = []
+    yaw_ned_rad: list[float] = []
+    alive: list[bool] = []
+
+    def __post_init__(self) -> None:
+        n = len(self.vehicle_ids)
+        if len(self.positions_enu_m) != n:
+            raise DecodeError("positions length mismatch")
+        for extra in (self.velocities_enu_mps, self.yaw_ned_rad, self.alive):
+            if extra and len(extra) != n:
+                raise DecodeError("truth list length mismatch")
+        if not math.isfinite(self.t_s):
+            raise DecodeError("non-finite t_s")
+
+    def positions_array(self) -> np.ndarray:
+        """(N, 3) float array; rows of vehicles that are not alive are NaN (out of everyone's radio range)."""
+        p = np.array(self.positions_enu_m, dtype=float).reshape(-1, 3)
+        if self.alive:
+            p[~np.asarray(self.alive, dtype=bool)] = np.nan
+        return p
+
+
+class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/command/1"):
+    """A ground-station order to the agents: mission phase changes, start, land, hold, resume.
+
+    ``flood_clock_start_t_s``: the mission time at which the flood clock started (SPEC §4: when every vehicle is
+    airborne in OFFBOARD), so every agent and the simulator agree on flood time. ``target_ids`` empty = everyone.
+    """
+
+    seq: int
+    t_s: float
+    command: Literal["phase", "start", "hold", "resume", "land", "abort"]
+    phase: str = ""
+    flood_clock_start_t_s: float | None = None
+    target_ids: list[int] = []
+    params: dict[str, float] = {}
+
+
+class RadioLinkStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radiostats/1"):
+    """Per-link counters of the radio emulator, published periodically for the ground station and tests.
+
+    ``links`` rows: (sender_id, receiver_id, delivered, lost). ``out_of_range`` counts (message, vehicle) pairs
+    that did not hear a message only because of range; ``rejected`` counts malformed/spoofed agent messages.
+    """
+
+    t_s: float
+    messages_in: int
+    delivered: int
+    lost: int
+    out_of_range: int
+    rejected: int
+    links: list[tuple[int, int, int, int]] = []
+
+
+class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
+    """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
+
+    t_s: float
+    vehicle_id: int
+    event: Literal["alive", "dead", "stale", "rejoined"]
+    observer: str = ""
+
+
+class GeoJsonPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Polygon"):
+    """RFC 7946 Polygon geometry: rings of ``[lon, lat]`` positions, first = last, outer ring counter-clockwise."""
+
+    coordinates: list[list[Point2]]
+
+
+class FloodPolygonProperties(msgspec.Struct, frozen=True, omit_defaults=True):
+    """What the rescue centre needs next to the shape; ``schema`` carries the version."""
+
+    schema: Literal["fw/polygon/1"]
+    mission: str
+    t_s: float
+    area_m2: float
+    perimeter_m: float
+    growth_rate_m2_per_s: float = 0.0
+    vehicle_ids: list[int] = []
+    utc_iso: str = ""
+
+
+class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature"):
+    """The ground station's caged flood polygon as a GeoJSON Feature (public key ``.../gcs/polygon``)."""
+
+    geometry: GeoJsonPolygon
+    properties: FloodPolygonProperties
+
+    def __post_init__(self) -> None:
+        rings = self.geometry.coordinates
+        if not rings or len(rings[0]) < 4 or not all(_finite_points(r) for r in rings):
+            raise DecodeError("polygon needs a closed finite outer ring of >= 4 positions")
+
+
+Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, PeerEvent, FloodPolygon]
+M = TypeVar("M", NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, PeerEvent, FloodPolygon)
+
+# Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
+MAX_PAYLOAD_BYTES: dict[type, int] = {
+    NeighbourState: 16 * 1024,
+    CameraFrame: 4 * 1024 * 1024,
+    BoundaryEdgePoints: 256 * 1024,
+    GroundTruth: 4 * 1024 * 1024,
+    MissionCommand: 16 * 1024,
+    RadioLinkStats: 16 * 1024 * 1024,
+    PeerEvent: 4 * 1024,
+    FloodPolygon: 16 * 1024 * 1024,
+}
+
+KINDS: dict[str, type] = {cls.__name__: cls for cls in MAX_PAYLOAD_BYTES}
+_JSON_KINDS = frozenset({FloodPolygon})
+_SCHEMA_FAMILY = {
+    cls: (cls.__struct_config__.tag.rsplit("/", 1)[0] + "/") for cls in MAX_PAYLOAD_BYTES if cls not in _JSON_KINDS
+}
+
+_msgpack_encoder = msgspec.msgpack.Encoder()
+_json_encoder = msgspec.json.Encoder()
+_decoders: dict[type, Any] = {
+    cls: (msgspec.json.Decoder(cls) if cls in _JSON_KINDS else msgspec.msgpack.Decoder(cls)) for cls in MAX_PAYLOAD_BYTES
+}
+
+REASONS = ("malformed", "truncated", "oversized", "wrong_version", "invalid")
+
+
+class DecodeStats:
+    """Thread-safe counters of dropped payloads by (kind name, reason) and of good ones by kind.
+
+    Reasons: ``oversized`` (above MAX_PAYLOAD_BYTES), ``truncated`` (ends mid-message), ``wrong_version`` (same
+    message family, other schema version), ``invalid`` (well-formed but fails a check, e.g. NaN position),
+    ``malformed`` (anything else: random bytes, wrong type).
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self.dropped: Counter[tuple[str, str]] = Counter()
+        self.ok: Counter[str] = Counter()
+
+    def count_ok(self, kind: str) -> None:
+        with self._lock:
+            self.ok[kind] += 1
+
+    def count_drop(self, kind: str, reason: str) -> None:
+        with self._lock:
+            self.dropped[(kind, reason)] += 1
+
+    def dropped_total(self, reason: str | None = None) -> int:
+        with self._lock:
+            return sum(v for (_, r), v in self.dropped.items() if reason is None or r == reason)
+
+    def snapshot(self) -> dict[str, dict[str, int]]:
+        """{"ok": {kind: n}, "dropped": {"kind/reason": n}} for logs and metrics."""
+        with self._lock:
+            return {"ok": dict(self.ok), "dropped": {f"{k}/{r}": v for (k, r), v in self.dropped.items()}}
+
+
+decode_stats = DecodeStats()
+
+
+def encode(msg: Message) -> bytes:
+    """Serialise a message: GeoJSON (UTF-8 JSON) for FloodPolygon, MessagePack for everything else."""
+    if isinstance(msg, FloodPolygon):
+        return _json_encoder.encode(msg)
+    return _msgpack_encoder.encode(msg)
+
+
+def _kind_class(kind: type[M] | str) -> type[M]:
+    return KINDS[kind] if isinstance(kind, str) else kind
+
+
+def _classify(cls: type, payload: bytes, error: Exception) -> str:
+    if isinstance(error, DecodeError) or isinstance(error.__cause__, DecodeError):
+        return "invalid"
+    if "truncated" in str(error):
+        return "truncated"
+    if isinstance(error, msgspec.ValidationError):
+        schema = _peek_schema(cls, payload)
+        if schema is not None:
+            family = "fw/polygon/" if cls in _JSON_KINDS else _SCHEMA_FAMILY[cls]
+            current = "fw/polygon/1" if cls in _JSON_KINDS else cls.__struct_config__.tag
+            if schema.startswith(family) and schema != current:
+                return "wrong_version"
+    return "malformed"
+
+
+def _peek_schema(cls: type, payload: bytes) -> str | None:
+    """The schema string of a payload that failed validation (only on the error path)."""
+    try:
+        raw = msgspec.json.decode(payload) if cls in _JSON_KINDS else msgspec.msgpack.decode(payload)
+    except Exception:
+        return None
+    if not isinstance(raw, dict):
+        return None
+    if cls in _JSON_KINDS:
+        props = raw.get("properties")
+        value = props.get("schema") if isinstance(props, dict) else None
+    else:
+        value = raw.get("schema")
+    return value if isinstance(value, str) else None
+
+
+def decode_with_reason(kind: type[M] | str, payload: bytes | bytearray | memoryview, stats: DecodeStats | None = None) -> tuple[M | None, str | None]:
+    """Like ``decode`` but also returns the drop reason (None when the message is good)."""
+    s = decode_stats if stats is None else stats
+    try:
+        cls = _kind_class(kind)
+        limit = MAX_PAYLOAD_BYTES[cls]
+    except (KeyError, TypeError):
+        s.count_drop(str(kind), "malformed")
+        return None, "malformed"
+    name = cls.__name__
+    if len(payload) > limit:
+        s.count_drop(name, "oversized")
+        return None, "oversized"
+    try:
+        msg = _decoders[cls].decode(payload)
+    except Exception as error:  # msgspec.DecodeError / ValidationError, and our own DecodeError from __post_init__
+        reason = _classify(cls, bytes(payload), error)
+        s.count_drop(name, reason)
+        return None, reason
+    s.count_ok(name)
+    return msg, None
+
+
+def decode(kind: type[M] | str, payload: bytes | bytearray | memoryview, stats: DecodeStats | None = None) -> M | None:
+    """Parse a payload of a known kind (class or class name); None (and one count in ``stats``) on bad input.
+
+    Never raises. ``stats`` defaults to the process-wide ``decode_stats``.
+    """
+    return decode_with_reason(kind, payload, stats)[0]
+
+
+def flood_polygon_from_enu(
+    ring_en_m: ArrayLike,
+    home: GeodeticHome,
+    *,
+    mission: str,
+    t_s: float,
+    growth_rate_m2_per_s: float = 0.0,
+    vehicle_ids: Sequence[int] = (),
+    utc_iso: str = "",
+) -> FloodPolygon:
+    """Build the GeoJSON polygon from a mission-ENU ring (K, 2): closes it, makes it counter-clockwise (RFC 7946),
+    converts to ``[lon, lat]`` through ``comms.frames``, and fills area and perimeter [m², m] from the ENU ring."""
+    ring = np.asarray(ring_en_m, dtype=float).reshape(-1, 2)
+    if len(ring) >= 2 and np.allclose(ring[0], ring[-1]):
+        ring = ring[:-1]
+    if len(ring) < 3:
+        raise ValueError("a polygon needs at least 3 distinct vertices")
+    x, y = ring[:, 0], ring[:, 1]
+    signed_area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    if signed_area < 0:
+        ring = ring[::-1]
+    perimeter_m = float(np.sum(np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)))
+    geo = enu_to_geodetic(ring, home)
+    coords = [(float(lon), float(lat)) for lat, lon in geo[:, :2]]
+    coords.append(coords[0])
+    return FloodPolygon(
+        geometry=GeoJsonPolygon(coordinates=[coords]),
+        properties=FloodPolygonProperties(
+            schema="fw/polygon/1",
+            mission=mission,
+            t_s=float(t_s),
+            area_m2=abs(signed_area),
+            perimeter_m=perimeter_m,
+            growth_rate_m2_per_s=float(growth_rate_m2_per_s),
+            vehicle_ids=[int(v) for v in vehicle_ids],
+            utc_iso=utc_iso,
+        ),
+    )
