@@ -1,0 +1,118 @@
+"""The ground station's live terminal view (rich): phase, clocks, every vehicle, caging, IoU, coverage, events.
+
+The mission loop fills a :class:`MissionSnapshot` a few times a second; :func:`render` turns it into a rich
+renderable and is pure (tests render it to text). When the output is not a terminal the view prints one short
+status line every few seconds instead, so logs of CI runs stay readable.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from rich.console import Group, RenderableType
+from rich.panel import Panel
+from rich.progress_bar import ProgressBar
+from rich.table import Table
+from rich.text import Text
+
+
+@dataclass(frozen=True)
+class VehicleRow:
+    vehicle_id: int
+    role: str
+    group: str
+    mode: str
+    armed: bool
+    altitude_m: float
+    heartbeat_age_s: float
+    """Wall seconds since the vehicle's last MAVLink heartbeat on the GCS link."""
+    agent_alive: bool
+    state_age_s: float
+    """Mission seconds since the agent's last state message on Zenoh."""
+    battery_fraction: float
+    sees_edge: bool
+
+
+@dataclass(frozen=True)
+class MissionSnapshot:
+    scenario: str
+    mode: str
+    phase: str
+    mission_t_s: float
+    flood_t_s: float | None
+    duration_s: float
+    speed: float
+    vehicles: tuple[VehicleRow, ...]
+    encircled: int = 0
+    boundary_count: int = 0
+    encircle_time_s: float | None = None
+    polygon_iou: float = float("nan")
+    coverage: float = float("nan")
+    polygon_area_m2: float = float("nan")
+    events: tuple[str, ...] = field(default_factory=tuple)
+
+
+def _fmt(value: float, spec: str, missing: str = "-") -> str:
+    return format(value, spec) if math.isfinite(value) else missing
+
+
+def _link_text(row: VehicleRow) -> Text:
+    if row.heartbeat_age_s > 3.0:
+        return Text("vehicle lost", style="bold red")
+    if not row.agent_alive:
+        return Text("agent gone", style="bold red")
+    if row.state_age_s > 1.0:
+        return Text(f"stale {row.state_age_s:.1f}s", style="yellow")
+    return Text("ok", style="green")
+
+
+def render(snapshot: MissionSnapshot) -> RenderableType:
+    """The whole view as one rich renderable."""
+    flood = "not started" if snapshot.flood_t_s is None else f"{snapshot.flood_t_s:5.1f} / {snapshot.duration_s:.0f} s"
+    caging = (
+        f"ring closed at {snapshot.encircle_time_s:.1f} s"
+        if snapshot.encircle_time_s is not None
+        else f"encircling: {snapshot.encircled}/{snapshot.boundary_count} boundary drones report the ring closed"
+    )
+    header = Text.assemble(
+        (f"{snapshot.scenario} ", "bold"),
+        (f"[{snapshot.mode}] ", "cyan"),
+        (f"phase {snapshot.phase}  ", "bold magenta"),
+        f"mission time {snapshot.mission_t_s:6.1f} s  flood clock {flood}  speed x{snapshot.speed:g}\n",
+        f"{caging}   polygon IoU {_fmt(snapshot.polygon_iou, '.3f')}   coverage {_fmt(snapshot.coverage, '.3f')}   "
+        f"polygon area {_fmt(snapshot.polygon_area_m2, '.0f')} m²",
+    )
+    table = Table(expand=True, box=None, pad_edge=False)
+    for column in ("id", "role", "mode", "armed", "alt m", "battery", "edge", "link"):
+        table.add_column(column)
+    for row in snapshot.vehicles:
+        role = row.role + (f" {row.group}" if row.group else "")
+        table.add_row(
+            str(row.vehicle_id),
+            role,
+            row.mode,
+            "yes" if row.armed else "no",
+            _fmt(row.altitude_m, ".1f"),
+            _fmt(row.battery_fraction * 100.0, ".0f") + ("%" if math.isfinite(row.battery_fraction) else ""),
+            "yes" if row.sees_edge else "",
+            _link_text(row),
+        )
+    done = snapshot.flood_t_s or 0.0
+    bar = ProgressBar(total=max(snapshot.duration_s, 1e-9), completed=min(done, snapshot.duration_s))
+    events = Text("\n".join(snapshot.events[-6:]), style="dim")
+    return Panel(Group(header, bar, table, events), title="FloodWatch ground station", border_style="blue")
+
+
+def status_line(snapshot: MissionSnapshot) -> str:
+    """One plain line for non-terminal output."""
+    flood = "-" if snapshot.flood_t_s is None else f"{snapshot.flood_t_s:.1f}"
+    modes: dict[str, int] = {}
+    for row in snapshot.vehicles:
+        modes[row.mode] = modes.get(row.mode, 0) + 1
+    mode_text = ", ".join(f"{n} {m}" for m, n in sorted(modes.items()))
+    return (
+        f"[{snapshot.phase}] t={snapshot.mission_t_s:.1f}s flood={flood}s encircled={snapshot.encircled}/"
+        f"{snapshot.boundary_count} IoU={_fmt(snapshot.polygon_iou, '.3f')} coverage={_fmt(snapshot.coverage, '.3f')} "
+        f"vehicles: {mode_text}"
+    )

@@ -1,0 +1,119 @@
+"""Starts and stops the mission's child processes so that none outlives the ground station.
+
+Each child runs in its own process group (so a Ctrl-C in the terminal reaches only the ground station, which then
+stops the children in order) and, on Linux, asks the kernel to send it SIGTERM when its parent dies, so even a
+kill -9 of the ground station leaves no orphans. :meth:`Supervisor.stop_all` sends SIGTERM to every group, waits,
+then SIGKILLs what is left; it runs on every exit path (the supervisor is a context manager).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO
+
+_PR_SET_PDEATHSIG = 1
+
+
+def _die_with_parent() -> None:
+    """preexec_fn: SIGTERM this child when the process that started it dies (Linux prctl; a no-op elsewhere)."""
+    try:
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+    except OSError:
+        pass
+
+
+@dataclass
+class Child:
+    name: str
+    process: subprocess.Popen[bytes]
+    log_path: Path
+
+    @property
+    def pid(self) -> int:
+        return self.process.pid
+
+    def exit_code(self) -> int | None:
+        return self.process.poll()
+
+    def log_tail(self, lines: int = 5) -> str:
+        """The last lines the child wrote (stdout and stderr), for one clear error message."""
+        try:
+            text = self.log_path.read_text(errors="replace").strip().splitlines()
+        except OSError:
+            return ""
+        return " | ".join(text[-lines:])
+
+
+class Supervisor:
+    """Owns the child processes of one mission run."""
+
+    def __init__(self, log_dir: Path) -> None:
+        self.children: list[Child] = []
+        self._log_dir = log_dir
+        self._logs: list[IO[bytes]] = []
+
+    def start(self, name: str, module_args: list[str], env: dict[str, str] | None = None) -> Child:
+        """Start ``python -m <module_args...>`` with this interpreter; its output goes to ``<log_dir>/<name>.log``."""
+        log_path = self._log_dir / f"{name}.log"
+        log = open(log_path, "ab")  # noqa: SIM115 - closed in stop_all
+        self._logs.append(log)
+        child_env = dict(os.environ)
+        child_env.setdefault("PYTHONUNBUFFERED", "1")
+        if env:
+            child_env.update(env)
+        process = subprocess.Popen(
+            [sys.executable, "-m", *module_args],
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+            preexec_fn=_die_with_parent,
+            env=child_env,
+        )
+        child = Child(name, process, log_path)
+        self.children.append(child)
+        return child
+
+    def kill(self, child: Child, sig: int = signal.SIGKILL) -> None:
+        """Signal one child's whole process group (fault injection and shutdown)."""
+        try:
+            os.killpg(child.pid, sig)
+        except ProcessLookupError:
+            pass
+
+    def stop_all(self, grace_s: float = 3.0) -> None:
+        """SIGTERM every child's group, wait up to ``grace_s``, SIGKILL the rest, reap everything. Idempotent."""
+        for child in reversed(self.children):
+            if child.exit_code() is None:
+                self.kill(child, signal.SIGTERM)
+        deadline = time.monotonic() + grace_s
+        for child in self.children:
+            remaining = max(0.0, deadline - time.monotonic())
+            try:
+                child.process.wait(timeout=remaining)
+            except subprocess.TimeoutExpired:
+                pass
+        for child in self.children:
+            # Kill the group even if the leader is gone: a grandchild may still hold it.
+            self.kill(child, signal.SIGKILL)
+            try:
+                child.process.wait(timeout=2.0)
+            except subprocess.TimeoutExpired:
+                pass
+        for log in self._logs:
+            log.close()
+        self._logs.clear()
+
+    def __enter__(self) -> "Supervisor":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop_all()

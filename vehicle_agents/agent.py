@@ -1,0 +1,264 @@
+"""One drone's onboard computer: the loop that ties autopilot, camera, radio and control law together.
+
+Every control period (20 Hz of mission time by default) it reads the newest telemetry, camera frame, neighbour
+messages and ground-station command, lets :func:`vehicle_agents.flight_phase.next_phase` decide what to do, and
+does it: arm, take off, start OFFBOARD, hover, or run the control law of its role (``vehicle_agents.control``, the
+same code the lockstep engine runs) and stream the velocity setpoint. It publishes its state every period and
+exits on a stop, after landing, or when its autopilot falls silent (exit code 3).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import cv2
+import numpy as np
+
+from comms.messages import CameraFrame, MissionCommand
+from vehicle_agents.autopilot_link import AutopilotLink, AutopilotLinkError
+from vehicle_agents.control.params import ControlParams
+from vehicle_agents.control.step import control_step, initial_memory
+from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
+from vehicle_agents.mission_clock import MissionClock
+from vehicle_agents.onboard_view import neighbour_infos, own_state, state_message, velocity_ned
+from vehicle_agents.perception.result import PerceptionResult
+from vehicle_agents.perception.segmentation import perceive
+from vehicle_agents.swarm_port import SwarmPort
+
+log = logging.getLogger("vehicle_agents")
+
+EXIT_OK = 0
+EXIT_LINK_LOST = 3
+EXIT_START_FAILED = 4
+_RETRY_COOLDOWN_S = 1.0
+_COMMANDS = {"start": Command.START, "resume": Command.START, "hold": Command.HOLD, "land": Command.LAND,
+             "abort": Command.LAND}
+
+
+@dataclass(frozen=True)
+class AgentConfig:
+    """One agent's plan: who it is, where its pad is, and how fast it runs (``speed`` = mission s per wall s)."""
+
+    vehicle_id: int
+    role: str
+    group: str | None
+    pad_enu_m: tuple[float, float]
+    has_gps: bool
+    params: ControlParams
+    control_rate_hz: float = 20.0
+    speed: float = 1.0
+    connect_timeout_s: float = 30.0
+    limits: PhaseLimits = field(default_factory=PhaseLimits)
+
+
+@dataclass
+class AgentStats:
+    """Counters for the benchmark and the exit log line."""
+
+    control_steps: int = 0
+    overruns: int = 0
+    frames_processed: int = 0
+    frames_dropped: int = 0
+    step_wall_s: list[float] = field(default_factory=list)
+    mission_wall_start_s: float | None = None
+    mission_wall_end_s: float | None = None
+
+    def control_rate_hz(self, speed: float) -> float:
+        """Achieved control steps per mission second over the MISSION phase."""
+        if self.mission_wall_start_s is None or self.mission_wall_end_s is None:
+            return float("nan")
+        wall_s = self.mission_wall_end_s - self.mission_wall_start_s
+        return self.control_steps / (wall_s * speed) if wall_s > 0 else float("nan")
+
+
+def decode_image(frame: CameraFrame) -> np.ndarray | None:
+    """The frame's BGR image (raw, PNG or JPEG), or None when it does not decode."""
+    if frame.encoding == "raw_bgr":
+        return np.frombuffer(frame.image, dtype=np.uint8).reshape(frame.height_px, frame.width_px, 3)
+    image = cv2.imdecode(np.frombuffer(frame.image, dtype=np.uint8), cv2.IMREAD_COLOR)
+    return image if image is not None and image.shape[:2] == (frame.height_px, frame.width_px) else None
+
+
+class Agent:
+    """The onboard loop; :meth:`run` returns the process exit code."""
+
+    def __init__(self, config: AgentConfig, link: AutopilotLink, swarm: SwarmPort) -> None:
+        self.config = config
+        self.link = link
+        self.swarm = swarm
+        self.clock = MissionClock(config.speed)
+        self.stats = AgentStats()
+        self.phase = Phase.CONNECTING
+        self._memory: Any = initial_memory(config.role, config.vehicle_id, config.params)
+        self._perception: PerceptionResult | None = None
+        self._frame_seq = -1
+        self._seq = 0
+        self._flood_clock_start_s: float | None = None
+        self._command_seq = -1
+        self._command: Command | None = None
+        self._retry_after_s: dict[Action, float] = {}
+        self._last_setpoint: tuple[tuple[float, float, float], float] | None = None
+        self._stop_requested = False
+
+    def request_stop(self) -> None:
+        """SIGTERM/SIGINT: leave the loop at the next period and close everything."""
+        self._stop_requested = True
+
+    async def run(self) -> int:
+        cfg = self.config
+        try:
+            await self.link.connect(cfg.connect_timeout_s)
+        except AutopilotLinkError as exc:
+            log.error("vehicle %d: %s", cfg.vehicle_id, exc)
+            return EXIT_START_FAILED
+        log.info("vehicle %d (%s): autopilot connected", cfg.vehicle_id, cfg.role)
+        period_wall_s = self.clock.wall_period_s(1.0 / cfg.control_rate_hz)
+        next_tick_s = time.monotonic()
+        exit_code = EXIT_OK
+        while True:
+            self._read_command()
+            command = Command.STOP if self._stop_requested else self._command
+            phase, action = next_phase(self.phase, PhaseInputs(self.link.telemetry, time.monotonic(), command), cfg.limits)
+            if phase is not self.phase:
+                log.info("vehicle %d: %s -> %s", cfg.vehicle_id, self.phase.value, phase.value)
+                self._on_transition(self.phase, phase)
+                self.phase = phase
+            if action is Action.EXIT:
+                if phase is Phase.LINK_LOST:
+                    log.error("vehicle %d: autopilot silent for %.1f s (vehicle lost); leaving the swarm",
+                              cfg.vehicle_id, cfg.limits.link_timeout_s)
+                    exit_code = EXIT_LINK_LOST
+                self._publish_state(leaving=True)
+                break
+            started = time.monotonic()
+            await self._execute(action)
+            self._publish_state(leaving=False)
+            if self.phase is Phase.MISSION:
+                self.stats.step_wall_s.append(time.monotonic() - started)
+            next_tick_s += period_wall_s
+            delay_s = next_tick_s - time.monotonic()
+            if delay_s < 0:
+                self.stats.overruns += 1
+                next_tick_s = time.monotonic()
+                delay_s = 0.0
+            await asyncio.sleep(delay_s)
+        await self.link.close()
+        return exit_code
+
+    def _on_transition(self, old: Phase, new: Phase) -> None:
+        if new is Phase.MISSION:
+            self.stats.mission_wall_start_s = time.monotonic()
+        if old is Phase.MISSION:
+            self.stats.mission_wall_end_s = time.monotonic()
+
+    def _read_command(self) -> None:
+        msg: MissionCommand | None = self.swarm.latest_command()
+        if msg is None:
+            return
+        self.clock.observe(msg.t_s)
+        if msg.seq == self._command_seq:
+            return
+        self._command_seq = msg.seq
+        if msg.target_ids and self.config.vehicle_id not in msg.target_ids:
+            return
+        if msg.flood_clock_start_t_s is not None:
+            self._flood_clock_start_s = msg.flood_clock_start_t_s
+        if msg.command in _COMMANDS:
+            self._command = _COMMANDS[msg.command]
+
+    async def _execute(self, action: Action) -> None:
+        now_s = time.monotonic()
+        if action in (Action.ARM, Action.TAKEOFF, Action.START_OFFBOARD, Action.HOLD, Action.LAND):
+            if now_s < self._retry_after_s.get(action, 0.0):
+                return
+            self._retry_after_s[action] = now_s + _RETRY_COOLDOWN_S
+        try:
+            if action is Action.ARM:
+                await self.link.arm()
+            elif action is Action.TAKEOFF:
+                await self.link.takeoff(self.config.limits.takeoff_altitude_m)
+            elif action is Action.START_OFFBOARD:
+                await self.link.start_offboard((0.0, 0.0, 0.0), 0.0)
+            elif action is Action.HOVER:
+                await self._send_setpoint((0.0, 0.0, 0.0), 0.0)
+            elif action is Action.FLY:
+                await self._fly()
+            elif action is Action.HOLD:
+                await self.link.hold()
+            elif action is Action.LAND:
+                await self.link.land()
+        except AutopilotLinkError as exc:
+            log.warning("vehicle %d: %s (will retry)", self.config.vehicle_id, exc)
+
+    async def _send_setpoint(self, velocity_ned_mps: tuple[float, float, float], yaw_ned_rad: float) -> None:
+        """MAVSDK re-sends the last setpoint by itself, so only changes cross the thread boundary."""
+        setpoint = (velocity_ned_mps, yaw_ned_rad)
+        if setpoint != self._last_setpoint:
+            await self.link.set_velocity_ned(velocity_ned_mps, yaw_ned_rad)
+            self._last_setpoint = setpoint
+
+    def _update_perception(self) -> None:
+        frame = self.swarm.latest_frame()
+        if frame is None or frame.seq == self._frame_seq:
+            return
+        if self._frame_seq >= 0 and frame.seq > self._frame_seq + 1:
+            self.stats.frames_dropped += frame.seq - self._frame_seq - 1
+        self._frame_seq = frame.seq
+        self.clock.observe(frame.t_s)
+        image = decode_image(frame)
+        if image is None:
+            self._perception = PerceptionResult.no_measurement()
+            return
+        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, frame.yaw_ned_rad)
+        self.stats.frames_processed += 1
+
+    def _flood_time_s(self) -> float:
+        start_s = self._flood_clock_start_s if self._flood_clock_start_s is not None else self.clock.now_s()
+        return max(0.0, self.clock.now_s() - start_s)
+
+    async def _fly(self) -> None:
+        cfg = self.config
+        self._update_perception()
+        own = own_state(self.link.telemetry, cfg.pad_enu_m, cfg.has_gps)
+        heard = neighbour_infos(self.swarm.neighbours(), self.clock.now_s(), cfg.vehicle_id, self.swarm.departed(),
+                                cfg.params.neighbour_timeout_s)
+        command, self._memory = control_step(cfg.role, self._memory, own, self._perception, heard, cfg.params,
+                                             self._flood_time_s())
+        self.stats.control_steps += 1
+        await self._send_setpoint(velocity_ned(command), float(command.yaw_ned_rad))
+
+    def _publish_state(self, leaving: bool) -> None:
+        cfg = self.config
+        tel = self.link.telemetry
+        if tel.last_message_monotonic_s == 0.0:
+            return
+        own = own_state(tel, cfg.pad_enu_m, cfg.has_gps)
+        if self.phase is not Phase.MISSION:
+            self._update_perception()
+        self._seq += 1
+        self.swarm.publish_state(
+            state_message(
+                vehicle_id=cfg.vehicle_id,
+                role=cfg.role,
+                group=cfg.group,
+                seq=self._seq,
+                t_s=self.clock.now_s(),
+                own=own,
+                tel=tel,
+                perception=self._perception,
+                encircled=bool(getattr(self._memory, "encircled", False)),
+                leaving=leaving,
+                low_battery=tel.battery_fraction < cfg.limits.low_battery_fraction,
+                extras=_memory_extras(self._memory),
+            )
+        )
+
+
+def _memory_extras(memory: Any) -> dict[str, float]:
+    """Numbers the control law wants gossiped (e.g. ``ring_radius_m``), if its memory has them."""
+    value = getattr(memory, "ring_radius_m", None)
+    return {"ring_radius_m": float(value)} if value is not None else {}

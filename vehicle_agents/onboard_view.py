@@ -1,0 +1,141 @@
+"""Pure conversions between what the agent's links carry and what the control law reads (and back).
+
+The control law (``vehicle_agents.control``) lives in the mission ENU frame; the autopilot speaks local NED from the
+vehicle's pad; the radio carries ``NeighbourState`` messages. These functions are the only translation between
+them, and every frame change goes through ``comms.frames``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from comms.frames import enu_to_ned, local_ned_to_mission_enu, ned_to_enu
+from comms.messages import (
+    FLAG_AIRBORNE,
+    FLAG_ARMED,
+    FLAG_CLIMBING_TO_FIND_EDGE,
+    FLAG_HAS_GPS,
+    FLAG_LEAVING,
+    FLAG_LOW_BATTERY,
+    FLAG_OFFBOARD,
+    FLAG_SEES_EDGE,
+    MAX_EDGE_POINTS,
+    NeighbourState,
+)
+from vehicle_agents.autopilot_link import AutopilotTelemetry
+from vehicle_agents.control.types import NeighbourInfo, OwnState, VelocityCommand
+from vehicle_agents.perception.result import PerceptionResult
+
+EDGE_POINTS_PER_MESSAGE = 24
+"""Edge points a boundary drone sends per state message (evenly subsampled): enough for the polygon, small on air."""
+
+
+def own_state(tel: AutopilotTelemetry, pad_enu_m: Sequence[float], has_gps: bool) -> OwnState:
+    """The drone's own state in the mission frame from its autopilot's local NED odometry and its pad offset."""
+    pad = np.array([pad_enu_m[0], pad_enu_m[1], 0.0])
+    position_enu_m = local_ned_to_mission_enu(np.array(tel.position_ned_m, dtype=float), pad)
+    velocity_enu_mps = ned_to_enu(np.array(tel.velocity_ned_mps, dtype=float))
+    return OwnState(
+        position_en_m=position_enu_m[:2].copy(),
+        altitude_m=float(position_enu_m[2]),
+        velocity_en_mps=velocity_enu_mps[:2].copy(),
+        has_gps=has_gps,
+    )
+
+
+def neighbour_infos(
+    messages: Iterable[NeighbourState], now_s: float, own_id: int, departed: set[int], timeout_s: float
+) -> list[NeighbourInfo]:
+    """Neighbours as the control law wants them: not ourselves, not departed or leaving, not older than ``timeout_s``."""
+    infos: list[NeighbourInfo] = []
+    for msg in messages:
+        if msg.sender_id == own_id or msg.sender_id in departed or msg.has(FLAG_LEAVING):
+            continue
+        age_s = max(0.0, now_s - msg.t_s)
+        if age_s > timeout_s:
+            continue
+        ring_radius_m = msg.extras.get("ring_radius_m")
+        infos.append(
+            NeighbourInfo(
+                vehicle_id=msg.sender_id,
+                role=msg.role,
+                position_en_m=np.array(msg.position_en_m, dtype=float),
+                velocity_en_mps=np.array(msg.velocity_en_mps, dtype=float),
+                altitude_m=msg.altitude_m,
+                age_s=age_s,
+                group=msg.group or None,
+                encircled=msg.encircle_complete,
+                ring_radius_m=None if ring_radius_m is None else float(ring_radius_m),
+            )
+        )
+    return infos
+
+
+def velocity_ned(command: VelocityCommand) -> tuple[float, float, float]:
+    """The control law's ENU velocity as the NED setpoint PX4 flies (non-finite components become 0)."""
+    v = np.nan_to_num(np.asarray(command.velocity_enu_mps, dtype=float), nan=0.0, posinf=0.0, neginf=0.0)
+    north, east, down = enu_to_ned(v)
+    return float(north), float(east), float(down)
+
+
+def edge_points_absolute(own: OwnState, perception: PerceptionResult | None) -> list[tuple[float, float]]:
+    """The water-edge points the camera sees, absolute in the mission frame, evenly subsampled for the radio."""
+    if perception is None or len(perception.edge_points_en_m) == 0:
+        return []
+    points: NDArray[np.float64] = np.asarray(perception.edge_points_en_m, dtype=float) + own.position_en_m
+    points = points[np.all(np.isfinite(points), axis=1)]
+    if len(points) > EDGE_POINTS_PER_MESSAGE:
+        points = points[np.linspace(0, len(points) - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)]
+    return [(float(x), float(y)) for x, y in points[:MAX_EDGE_POINTS]]
+
+
+def state_message(
+    *,
+    vehicle_id: int,
+    role: str,
+    group: str | None,
+    seq: int,
+    t_s: float,
+    own: OwnState,
+    tel: AutopilotTelemetry,
+    perception: PerceptionResult | None,
+    encircled: bool,
+    leaving: bool,
+    low_battery: bool,
+    extras: dict[str, float],
+) -> NeighbourState:
+    """This drone's broadcast: its own estimate (odometry; GPS only where fitted), status flags, boundary extras."""
+    flags = 0
+    flags |= FLAG_ARMED if tel.armed else 0
+    flags |= FLAG_AIRBORNE if tel.in_air else 0
+    flags |= FLAG_OFFBOARD if tel.flight_mode == "OFFBOARD" else 0
+    flags |= FLAG_HAS_GPS if own.has_gps else 0
+    flags |= FLAG_LEAVING if leaving else 0
+    flags |= FLAG_LOW_BATTERY if low_battery else 0
+    if perception is not None:
+        flags |= FLAG_SEES_EDGE if perception.has_edge else 0
+        flags |= FLAG_CLIMBING_TO_FIND_EDGE if (perception.only_land or perception.only_water) else 0
+    gps_ok = own.has_gps and tel.has_global_position and math.isfinite(tel.latitude_deg)
+    return NeighbourState(
+        sender_id=vehicle_id,
+        role=role,  # type: ignore[arg-type]
+        seq=seq,
+        t_s=float(t_s),
+        position_en_m=(float(own.position_en_m[0]), float(own.position_en_m[1])),
+        altitude_m=float(own.altitude_m),
+        velocity_en_mps=(float(own.velocity_en_mps[0]), float(own.velocity_en_mps[1])),
+        velocity_up_mps=float(-tel.velocity_ned_mps[2]),
+        yaw_ned_rad=float(tel.yaw_ned_rad),
+        lat_deg=float(tel.latitude_deg) if gps_ok else None,
+        lon_deg=float(tel.longitude_deg) if gps_ok else None,
+        flags=flags,
+        battery_fraction=float(tel.battery_fraction),
+        group=(group or ""),  # type: ignore[arg-type]
+        encircle_complete=encircled,
+        edge_points_en_m=edge_points_absolute(own, perception) if role == "boundary" else [],
+        extras={k: float(v) for k, v in extras.items() if math.isfinite(v)},
+    )
