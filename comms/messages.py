@@ -208,6 +208,17 @@ class RadioLinkStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     links: list[tuple[int, int, int, int]] = []
 
 
+class RadioBundle(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radio/1"):
+    """What the radio emulator hands one receiver in one delivery tick: (sender_id, NeighbourState payload) pairs.
+
+    Bundling keeps the emulator at one Zenoh put per receiver per tick instead of one per (sender, receiver)
+    link; the payloads are the senders' own bytes, forwarded untouched.
+    """
+
+    t_s: float
+    entries: list[tuple[int, bytes]]
+
+
 class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
     """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
 
@@ -248,8 +259,8 @@ class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature")
             raise DecodeError("polygon needs a closed finite outer ring of >= 4 positions")
 
 
-Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, PeerEvent, FloodPolygon]
-M = TypeVar("M", NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, PeerEvent, FloodPolygon)
+Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent, FloodPolygon]
+M = TypeVar("M", NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent, FloodPolygon)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
 MAX_PAYLOAD_BYTES: dict[type, int] = {
@@ -259,6 +270,7 @@ MAX_PAYLOAD_BYTES: dict[type, int] = {
     GroundTruth: 4 * 1024 * 1024,
     MissionCommand: 16 * 1024,
     RadioLinkStats: 16 * 1024 * 1024,
+    RadioBundle: 16 * 1024 * 1024,
     PeerEvent: 4 * 1024,
     FloodPolygon: 16 * 1024 * 1024,
 }

@@ -1,0 +1,266 @@
+"""The central radio emulator: forwards each agent's state only to the agents within radio range.
+
+Why central (like MOOS-IvP's ``pMarineViewer``/``uFldNodeComms`` and Gazebo's RF comms plugin): range must be
+decided on the simulator's TRUE positions (SPEC §4), which no agent has and none may be trusted to report; one
+process that owns the truth stream and every link also gives one place for seeded loss/latency/jitter and per-link
+counters, and the agents stay unchanged for a real deployment (there the emulator is simply not started and
+agents subscribe to each other's public state keys, see ``comms.swarm_link``).
+
+Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioModel.send`` on the latest
+``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> ``DeliveryQueue`` (latency/jitter) -> one ``RadioBundle`` per
+receiver per tick on ``floodwatch/<m>/radio/<rid>/inbox``.
+
+``RadioRelay`` is the logic without Zenoh or clocks (time is passed in); ``RadioEmulator`` is the thin shell that
+runs it on a thread against a ``ZenohSession``.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import defaultdict
+from dataclasses import dataclass
+
+import numpy as np
+
+from comms.delivery_queue import DeliveryQueue
+from comms.keys import MissionKeys
+from comms.messages import (
+    DecodeStats,
+    GroundTruth,
+    NeighbourState,
+    RadioBundle,
+    RadioLinkStats,
+    decode,
+    encode,
+)
+from comms.radio_model import RadioModel
+from comms.zenoh_session import ZenohConfig, ZenohSession
+
+
+@dataclass
+class RelayCounters:
+    """Totals since start: messages in, (message, receiver) pairs delivered / lost / out of range, and drops."""
+
+    messages_in: int = 0
+    delivered: int = 0
+    lost: int = 0
+    out_of_range: int = 0
+    rejected: int = 0  # undecodable, or sender_id differing from the key's id (spoofing)
+    ignored_old: int = 0  # seq not newer than the last one forwarded for that sender
+    no_truth: int = 0  # no truth yet, or the sender is not in the truth (unknown or dead vehicle)
+    queue_overflow: int = 0
+
+
+class RadioRelay:
+    """Range gate + loss + delay for a stream of agent messages, against the latest truth. No I/O, no clock.
+
+    Times (``now_s``) are the relay's own clock; delays from the model are in simulation seconds and are divided
+    by ``speed`` (simulation seconds per relay second) so a sped-up simulation keeps its radio latency in sim time.
+    """
+
+    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000) -> None:
+        if speed <= 0:
+            raise ValueError("speed must be > 0")
+        self.radio = radio
+        self.speed = speed
+        self.stats = DecodeStats() if stats is None else stats
+        self.counters = RelayCounters()
+        self.queue: DeliveryQueue[tuple[int, bytes]] = DeliveryQueue(max_in_flight)
+        self._immediate: list[tuple[int, tuple[int, bytes]]] = []
+        self._positions: np.ndarray | None = None
+        self._ids = np.zeros(0, dtype=np.int64)
+        self._slot_of: dict[int, int] = {}
+        self._last_seq: dict[int, int] = {}
+        self.truth_t_s: float | None = None
+        self._link_delivered = np.zeros((0, 0), dtype=np.int64)
+        self._link_lost = np.zeros((0, 0), dtype=np.int64)
+        self._link_ids: list[int] = []
+        self._link_slot: dict[int, int] = {}
+        self._zero_delay = radio.latency_s == 0.0 and radio.jitter_s == 0.0
+
+    # ---- inputs
+    def on_truth(self, truth: GroundTruth) -> None:
+        """Adopt the newest truth (older ones, by ``t_s``, are ignored)."""
+        if self.truth_t_s is not None and truth.t_s < self.truth_t_s:
+            return
+        self.truth_t_s = truth.t_s
+        self._positions = truth.positions_array()
+        self._ids = np.asarray(truth.vehicle_ids, dtype=np.int64)
+        self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids)}
+        for vid in truth.vehicle_ids:
+            self._link_index(int(vid))
+
+    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float) -> NeighbourState | None:
+        """One agent message arrived on the state key of ``key_vehicle_id``: decide its fate and schedule it."""
+        self.counters.messages_in += 1
+        state = decode(NeighbourState, payload, self.stats)
+        if state is None or state.sender_id != key_vehicle_id:
+            self.counters.rejected += 1
+            return None
+        sid = state.sender_id
+        last = self._last_seq.get(sid)
+        if last is not None and state.seq <= last:
+            self.counters.ignored_old += 1
+            return None
+        self._last_seq[sid] = state.seq
+        slot = self._slot_of.get(sid)
+        if self._positions is None or slot is None or not np.isfinite(self._positions[slot]).all():
+            self.counters.no_truth += 1
+            return None
+        tx = self.radio.send(slot, self._positions, t_s=0.0, seq=state.seq, vehicle_ids=self._ids)
+        alive = int(np.count_nonzero(np.isfinite(self._positions).all(axis=1)))
+        self.counters.out_of_range += alive - 1 - tx.receiver_index.size
+        receivers = self._ids[tx.receiver_index]
+        self._count_links(sid, receivers, tx.delivered)
+        self.counters.delivered += tx.heard_count
+        self.counters.lost += tx.lost_count
+        heard = receivers[tx.delivered]
+        item = (sid, payload)
+        if self._zero_delay:
+            self._immediate.extend((int(r), item) for r in heard)
+        else:
+            due = now_s + tx.delivery_t_s[tx.delivered] / self.speed
+            for r, t in zip(heard.tolist(), due.tolist()):
+                if not self.queue.push(t, r, item):
+                    self.counters.queue_overflow += 1
+        return state
+
+    # ---- outputs
+    def pop_due(self, now_s: float) -> dict[int, list[tuple[int, bytes]]]:
+        """Messages to hand over now, grouped by receiver id: {receiver: [(sender_id, payload), ...]}."""
+        out: dict[int, list[tuple[int, bytes]]] = defaultdict(list)
+        for receiver, item in self._immediate:
+            out[receiver].append(item)
+        self._immediate.clear()
+        for _, receiver, item in self.queue.pop_due(now_s):
+            out[receiver].append(item)
+        return out
+
+    def next_due_s(self) -> float | None:
+        return 0.0 if self._immediate else self.queue.next_delivery_t_s()
+
+    def link_stats(self, t_s: float) -> RadioLinkStats:
+        """Counters as a message; ``links`` lists every (sender, receiver) pair with traffic."""
+        s_idx, r_idx = np.nonzero((self._link_delivered + self._link_lost) > 0)
+        ids = self._link_ids
+        links = [
+            (ids[s], ids[r], int(self._link_delivered[s, r]), int(self._link_lost[s, r]))
+            for s, r in zip(s_idx.tolist(), r_idx.tolist())
+        ]
+        c = self.counters
+        return RadioLinkStats(
+            t_s=t_s, messages_in=c.messages_in, delivered=c.delivered, lost=c.lost,
+            out_of_range=c.out_of_range, rejected=c.rejected, links=links,
+        )
+
+    def _link_index(self, vehicle_id: int) -> int:
+        slot = self._link_slot.get(vehicle_id)
+        if slot is None:
+            slot = len(self._link_ids)
+            self._link_slot[vehicle_id] = slot
+            self._link_ids.append(vehicle_id)
+            if slot >= self._link_delivered.shape[0]:
+                size = max(16, 2 * slot)
+                for name in ("_link_delivered", "_link_lost"):
+                    old = getattr(self, name)
+                    grown = np.zeros((size, size), dtype=np.int64)
+                    grown[: old.shape[0], : old.shape[1]] = old
+                    setattr(self, name, grown)
+        return slot
+
+    def _count_links(self, sender_id: int, receiver_ids: np.ndarray, delivered: np.ndarray) -> None:
+        s = self._link_index(sender_id)
+        slots = np.fromiter((self._link_slot[int(r)] for r in receiver_ids), dtype=np.int64, count=receiver_ids.size)
+        self._link_delivered[s, slots[delivered]] += 1
+        self._link_lost[s, slots[~delivered]] += 1
+
+
+@dataclass(frozen=True)
+class RadioEmulatorConfig:
+    """Everything ``python -m comms.radio`` sets: which mission, how to join Zenoh, and the radio parameters."""
+
+    mission: str
+    zenoh: ZenohConfig
+    radio: RadioModel
+    speed: float = 1.0
+    stats_period_s: float = 1.0
+    max_wait_s: float = 0.05
+
+
+class RadioEmulator:
+    """Runs a ``RadioRelay`` on its own thread against Zenoh; ``start()``/``stop()`` or a ``with`` block.
+
+    Only the emulator thread calls Zenoh (put); the Zenoh callbacks only fill the latest-value buffer.
+    """
+
+    def __init__(self, config: RadioEmulatorConfig, session: ZenohSession | None = None) -> None:
+        self.config = config
+        self.keys = MissionKeys(config.mission)
+        self._own_session = session is None
+        self.session = ZenohSession(config.zenoh) if session is None else session
+        self.relay = RadioRelay(config.radio, speed=config.speed)
+        self.bundles_out = 0
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._buffer = self.session.subscribe(self.keys.all_states)
+        self.session.subscribe(self.keys.truth, self._buffer)
+        self.session.declare_alive(self.keys.alive("radio"))
+        self.error: BaseException | None = None
+
+    def __enter__(self) -> RadioEmulator:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    def start(self) -> None:
+        self._thread = threading.Thread(target=self._run, name="radio-emulator", daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        """Stop the thread, then close the session if this emulator opened it."""
+        self._stop.set()
+        self._buffer.wake()
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None
+        if self._own_session:
+            self.session.close()
+
+    def run_until(self, stop: threading.Event) -> None:
+        """Run on the calling thread until ``stop`` is set (the CLI's main loop)."""
+        self._stop = stop
+        self._run()
+
+    def _run(self) -> None:
+        relay, keys, session = self.relay, self.keys, self.session
+        next_stats = time.monotonic() + self.config.stats_period_s
+        try:
+            while not self._stop.is_set():
+                now = time.monotonic()
+                due = relay.next_due_s()
+                wait_s = self.config.max_wait_s if due is None else min(self.config.max_wait_s, max(0.0, due - now))
+                if wait_s > 0:
+                    self._buffer.wait(wait_s)
+                items = self._buffer.drain()
+                now = time.monotonic()
+                for item in items:
+                    if item.key == keys.truth:
+                        truth = decode(GroundTruth, item.payload, relay.stats)
+                        if truth is not None:
+                            relay.on_truth(truth)
+                for item in items:
+                    if item.key != keys.truth and item.kind == "put":
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s)
+                t_s = relay.truth_t_s or 0.0
+                for receiver, entries in relay.pop_due(time.monotonic()).items():
+                    session.put(keys.inbox(receiver), encode(RadioBundle(t_s=t_s, entries=entries)))
+                    self.bundles_out += 1
+                if now >= next_stats:
+                    session.put(keys.radio_stats, encode(relay.link_stats(t_s)))
+                    next_stats = now + self.config.stats_period_s
+        except BaseException as error:  # surfaced to the owner; the CLI exits non-zero
+            self.error = error
+            raise

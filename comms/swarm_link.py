@@ -1,0 +1,147 @@
+"""The agent's (and ground station's) side of the swarm radio: publish my state, hear my neighbours.
+
+The same calls work in both worlds, so the agent code does not change between simulation and a real deployment:
+
+* ``via_radio=True`` (simulation): the agent hears only what the radio emulator delivers to its inbox
+  (``floodwatch/<m>/radio/<id>/inbox``): neighbours within range of its TRUE position, after loss and delay;
+* ``via_radio=False`` (real deployment, or the ground station): it subscribes to everyone's public state keys
+  ``floodwatch/<m>/uav/*/state`` directly; the real radio does the range limiting.
+
+Either way the agent always publishes its own state on its public key, declares its liveliness token
+``floodwatch/<m>/alive/<id>``, and watches everyone's tokens. ``poll()`` returns decoded states (bad payloads are
+dropped and counted) and liveliness changes; feed them into a ``NeighbourTable``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+import msgspec
+
+from comms.keys import MissionKeys
+from comms.latest_buffer import LatestValueBuffer
+from comms.messages import DecodeStats, NeighbourState, RadioBundle, decode, decode_stats, encode
+from comms.neighbour_table import NeighbourTable
+from comms.zenoh_session import ZenohSession
+
+_bundle_decoder = msgspec.msgpack.Decoder(RadioBundle)
+
+
+def bundle_unpacker(keys: MissionKeys, max_bytes: int = 16 * 1024 * 1024):
+    """The inbox callback's splitter: a ``RadioBundle`` -> [(public state key of sender, state payload), ...].
+
+    Runs on a Zenoh thread: only msgpack framing is parsed here; the states are decoded later by the consumer.
+    Raises on a bad bundle (the session counts it in ``callback_errors`` and drops it).
+    """
+
+    def unpack(_key: str, payload: bytes) -> Iterable[tuple[str, bytes]]:
+        if len(payload) > max_bytes:
+            raise ValueError("oversized radio bundle")
+        bundle = _bundle_decoder.decode(payload)
+        return [(keys.state(sender_id), state) for sender_id, state in bundle.entries]
+
+    return unpack
+
+
+@dataclass(frozen=True)
+class FeedUpdate:
+    """What arrived since the last poll: decoded neighbour states (newest per sender) and liveliness changes
+    (vehicle ids whose token appeared / vanished; services such as ``gcs`` are in ``services_*``)."""
+
+    states: list[NeighbourState] = field(default_factory=list)
+    alive: list[int] = field(default_factory=list)
+    dead: list[int] = field(default_factory=list)
+    services_alive: list[str] = field(default_factory=list)
+    services_dead: list[str] = field(default_factory=list)
+
+
+class SwarmLink:
+    """One process's membership of the swarm over Zenoh (an agent with ``vehicle_id``, or the GCS with None)."""
+
+    def __init__(
+        self,
+        session: ZenohSession,
+        keys: MissionKeys,
+        vehicle_id: int | None,
+        *,
+        via_radio: bool,
+        participant: str | None = None,
+        stats: DecodeStats | None = None,
+    ) -> None:
+        """Subscribe (inbox or public states, plus liveliness) and declare this participant's token.
+
+        ``participant`` names the liveliness token (default: the vehicle id; e.g. ``"gcs"`` for the ground station;
+        no token when both are None). ``via_radio`` needs a ``vehicle_id``.
+        """
+        if via_radio and vehicle_id is None:
+            raise ValueError("via_radio needs the receiving vehicle's id")
+        self.session = session
+        self.keys = keys
+        self.vehicle_id = vehicle_id
+        self.via_radio = via_radio
+        self.stats = decode_stats if stats is None else stats
+        self.buffer = LatestValueBuffer()
+        self.rejected_spoofed = 0
+        if via_radio:
+            assert vehicle_id is not None
+            session.subscribe(keys.inbox(vehicle_id), self.buffer, unpack=bundle_unpacker(keys))
+        else:
+            session.subscribe(keys.all_states, self.buffer)
+        session.subscribe_alive(keys.all_alive, self.buffer, history=True)
+        name = participant if participant is not None else (None if vehicle_id is None else str(vehicle_id))
+        if name is not None:
+            session.declare_alive(keys.alive(name))
+
+    def publish(self, state: NeighbourState) -> None:
+        """Broadcast my state on my public key (the radio emulator, neighbours and the GCS pick it up there)."""
+        if self.vehicle_id is not None and state.sender_id != self.vehicle_id:
+            raise ValueError(f"state.sender_id {state.sender_id} is not this link's vehicle {self.vehicle_id}")
+        self.session.put(self.keys.state(state.sender_id), encode(state))
+
+    def poll(self) -> FeedUpdate:
+        """Everything pending, decoded; never blocks. States whose key id differs from sender_id are dropped."""
+        update = FeedUpdate()
+        alive_prefix = self.keys.prefix + "/alive/"
+        for item in self.buffer.drain():
+            if item.key.startswith(alive_prefix):
+                name = self.keys.participant_of(item.key)
+                if name is None:
+                    continue
+                if name.isdigit():
+                    (update.alive if item.kind == "put" else update.dead).append(int(name))
+                else:
+                    (update.services_alive if item.kind == "put" else update.services_dead).append(name)
+                continue
+            if item.kind != "put":
+                continue
+            state = decode(NeighbourState, item.payload, self.stats)
+            if state is None:
+                continue
+            if self.keys.vehicle_id_of(item.key) != state.sender_id:
+                self.rejected_spoofed += 1
+                continue
+            if state.sender_id == self.vehicle_id:
+                continue
+            update.states.append(state)
+        return update
+
+    def wait(self, timeout_s: float | None = None) -> bool:
+        """Block (a non-Zenoh thread) until something arrives; True if there is something to poll."""
+        return self.buffer.wait(timeout_s)
+
+    async def wait_async(self, timeout_s: float | None = None) -> bool:
+        """Await (asyncio) until something arrives; True if there is something to poll."""
+        return await self.buffer.wait_async(timeout_s)
+
+    def update_table(self, table: NeighbourTable, now_s: float) -> FeedUpdate:
+        """Poll and apply to ``table`` (liveliness first, then states), then expire stale entries."""
+        update = self.poll()
+        for vid in update.dead:
+            table.liveliness(vid, False, now_s)
+        for vid in update.alive:
+            table.liveliness(vid, True, now_s)
+        for state in update.states:
+            table.heard(state, now_s)
+        table.expire(now_s)
+        return update

@@ -1,0 +1,247 @@
+"""The one module that imports zenoh: open a session, publish, subscribe into latest-value buffers, liveliness.
+
+Topologies (``ZenohConfig``):
+
+* single machine, the default: every process is a Zenoh **peer** on loopback with explicit endpoints and multicast
+  scouting off. The mission's hub peer listens on ``tcp/127.0.0.1:7447`` (Zenoh's conventional port) so any outside
+  Zenoh client can join; member peers connect to it and listen on an ephemeral loopback port, and gossip lets them
+  connect to each other directly (a full mesh: lowest latency, no single relay). Tests use their own ports.
+* several machines: one Zenoh **router** per host (``python -m comms.router``, which is ``zenoh.open`` in router
+  mode, not a home-made broker), routers connected to each other, and every process a **client** of its host's
+  router. The same mode suits hundreds of processes on one host (a star instead of an N² mesh).
+
+Callback discipline: Zenoh callbacks run on Zenoh's threads. Ours copy the payload into a ``LatestValueBuffer``
+and return; they never block, never call Zenoh, and never raise (errors are counted in ``callback_errors``).
+Open sessions only after any ``fork``. ``close`` undeclares everything and closes the session; an ``atexit`` hook
+closes sessions a caller forgot, so the interpreter never hangs at exit.
+"""
+
+from __future__ import annotations
+
+import atexit
+import json
+import re
+import threading
+import time
+import weakref
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import zenoh
+
+from comms.latest_buffer import LatestValueBuffer
+
+DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
+_ENDPOINT_RE = re.compile(r"^(tcp|udp|quic|tls|ws|unixsock-stream)/\S+$")
+
+Unpack = Callable[[str, bytes], Iterable[tuple[str, bytes]]]
+
+
+class ZenohOpenError(RuntimeError):
+    """The session could not be opened (bad endpoint, port in use, no router reachable in client mode)."""
+
+
+@dataclass(frozen=True)
+class ZenohConfig:
+    """How a process joins Zenoh. Endpoints are Zenoh locators such as ``tcp/127.0.0.1:7447``."""
+
+    mode: Literal["peer", "client", "router"] = "peer"
+    listen: tuple[str, ...] = ()
+    connect: tuple[str, ...] = ()
+    multicast_scouting: bool = False
+    gossip_scouting: bool = True
+    extra_json5: tuple[tuple[str, str], ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if self.mode not in ("peer", "client", "router"):
+            raise ValueError(f"zenoh mode {self.mode!r}: use peer, client or router")
+        for endpoint in (*self.listen, *self.connect):
+            if not _ENDPOINT_RE.match(endpoint):
+                raise ValueError(f"zenoh endpoint {endpoint!r}: expected e.g. tcp/127.0.0.1:7447")
+        if self.mode == "client" and not self.connect:
+            raise ValueError("zenoh client mode needs at least one --connect router endpoint")
+
+    @staticmethod
+    def hub(endpoint: str = DEFAULT_ENDPOINT) -> ZenohConfig:
+        """The mission's own peer, listening where outside clients and member peers connect."""
+        return ZenohConfig(mode="peer", listen=(endpoint,))
+
+    @staticmethod
+    def member(hub: str = DEFAULT_ENDPOINT, listen: str = "tcp/127.0.0.1:0") -> ZenohConfig:
+        """A process of a running mission on this machine (agent, radio, simulator bridge): peer joining the hub."""
+        return ZenohConfig(mode="peer", listen=(listen,), connect=(hub,))
+
+    @staticmethod
+    def client(*routers: str) -> ZenohConfig:
+        """A process in a multi-machine deployment: client of its host's router(s)."""
+        return ZenohConfig(mode="client", connect=tuple(routers) or (DEFAULT_ENDPOINT,))
+
+    @staticmethod
+    def router(listen: Iterable[str] = ("tcp/0.0.0.0:7447",), connect: Iterable[str] = ()) -> ZenohConfig:
+        """A Zenoh router (one per host), optionally connected to the other hosts' routers."""
+        return ZenohConfig(mode="router", listen=tuple(listen), connect=tuple(connect))
+
+    def to_json5_items(self) -> list[tuple[str, str]]:
+        """The (key, JSON5 value) pairs given to ``zenoh.Config.insert_json5``."""
+        items = [
+            ("mode", json.dumps(self.mode)),
+            ("scouting/multicast/enabled", json.dumps(self.multicast_scouting)),
+            ("connect/endpoints", json.dumps(list(self.connect))),
+        ]
+        if self.mode != "client":
+            items.append(("listen/endpoints", json.dumps(list(self.listen))))
+            items.append(("scouting/gossip/enabled", json.dumps(self.gossip_scouting)))
+        items.extend(self.extra_json5)
+        return items
+
+
+_open_sessions: "weakref.WeakSet[ZenohSession]" = weakref.WeakSet()
+
+
+@atexit.register
+def _close_forgotten_sessions() -> None:
+    for session in list(_open_sessions):
+        session.close()
+
+
+class ZenohSession:
+    """An open Zenoh session with our conventions; use as a context manager (``with ZenohSession(cfg) as z:``)."""
+
+    def __init__(self, config: ZenohConfig = ZenohConfig()) -> None:
+        self.config = config
+        zconf = zenoh.Config()
+        try:
+            for key, value in config.to_json5_items():
+                zconf.insert_json5(key, value)
+            self._session = zenoh.open(zconf)
+        except Exception as error:  # zenoh.ZError and friends: one clear line for the CLI
+            raise ZenohOpenError(f"cannot open zenoh {config.mode} session ({', '.join(config.listen + config.connect) or 'no endpoints'}): {error}") from error
+        self._lock = threading.Lock()
+        self._entities: list[Any] = []
+        self._publishers: dict[str, Any] = {}
+        self._closed = False
+        self.callback_errors = 0
+        _open_sessions.add(self)
+
+    def __enter__(self) -> ZenohSession:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    @property
+    def zid(self) -> str:
+        return str(self._session.zid())
+
+    # ---- publishing (call from our own threads, never from a Zenoh callback)
+    def put(self, key: str, payload: bytes) -> None:
+        """Publish one payload on a key, through a publisher declared on first use (cheaper on hot keys)."""
+        publisher = self._publishers.get(key)
+        if publisher is None:
+            with self._lock:
+                publisher = self._publishers.get(key)
+                if publisher is None:
+                    publisher = self._session.declare_publisher(key)
+                    self._publishers[key] = publisher
+        publisher.put(payload)
+
+    def put_once(self, key: str, payload: bytes) -> None:
+        """Publish on a key without keeping a publisher (rare messages on many keys)."""
+        self._session.put(key, payload)
+
+    # ---- subscribing
+    def subscribe(self, key_expr: str, buffer: LatestValueBuffer | None = None, unpack: Unpack | None = None) -> LatestValueBuffer:
+        """One (wildcard) subscriber whose samples land in ``buffer`` (newest per key); returns the buffer.
+
+        ``unpack(key, payload) -> [(subkey, payload), ...]`` splits a bundle into several entries inside the
+        callback (it must be cheap and pure); if it raises, the sample is dropped and counted.
+        """
+        buf = LatestValueBuffer() if buffer is None else buffer
+
+        def on_sample(sample: zenoh.Sample) -> None:
+            try:
+                key = str(sample.key_expr)
+                payload = sample.payload.to_bytes()
+                kind = "delete" if sample.kind == zenoh.SampleKind.DELETE else "put"
+                if unpack is None:
+                    buf.put(key, payload, kind)
+                else:
+                    buf.put_many(unpack(key, payload), kind)
+            except Exception:
+                self.callback_errors += 1
+
+        self._declare(lambda: self._session.declare_subscriber(key_expr, on_sample))
+        return buf
+
+    # ---- liveliness
+    def declare_alive(self, key: str) -> None:
+        """Hold a liveliness token on ``key`` until this session closes (or the process dies)."""
+        self._declare(lambda: self._session.liveliness().declare_token(key))
+
+    def subscribe_alive(self, key_expr: str, buffer: LatestValueBuffer | None = None, history: bool = True) -> LatestValueBuffer:
+        """Liveliness changes under ``key_expr`` into ``buffer``: kind "put" = token appeared, "delete" = gone.
+
+        With ``history`` the tokens alive at declaration time are reported too.
+        """
+        buf = LatestValueBuffer() if buffer is None else buffer
+
+        def on_change(sample: zenoh.Sample) -> None:
+            try:
+                kind = "delete" if sample.kind == zenoh.SampleKind.DELETE else "put"
+                buf.put(str(sample.key_expr), b"", kind)
+            except Exception:
+                self.callback_errors += 1
+
+        self._declare(lambda: self._session.liveliness().declare_subscriber(key_expr, on_change, history=history))
+        return buf
+
+    def alive_now(self, key_expr: str, timeout_s: float = 1.0) -> list[str]:
+        """The keys of the liveliness tokens currently alive under ``key_expr`` (a blocking query: not in callbacks)."""
+        keys: list[str] = []
+        for reply in self._session.liveliness().get(key_expr, timeout=timeout_s):
+            try:
+                keys.append(str(reply.ok.key_expr))
+            except Exception:
+                continue
+        return sorted(keys)
+
+    # ---- lifecycle
+    def _declare(self, make: Callable[[], Any]) -> None:
+        with self._lock:
+            if self._closed:
+                raise RuntimeError("zenoh session is closed")
+            self._entities.append(make())
+
+    def close(self) -> None:
+        """Undeclare tokens, subscribers and publishers, then close the session; idempotent, never raises."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            entities, self._entities = self._entities, []
+            publishers, self._publishers = list(self._publishers.values()), {}
+        for entity in reversed(entities + publishers):
+            try:
+                entity.undeclare()
+            except Exception:
+                pass
+        try:
+            self._session.close()
+        except Exception:
+            pass
+        _open_sessions.discard(self)
+
+
+def wait_for_peers(session: ZenohSession, key_expr: str, count: int, timeout_s: float = 10.0) -> bool:
+    """Block until at least ``count`` liveliness tokens are visible under ``key_expr`` (start-up barrier)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if len(session.alive_now(key_expr, timeout_s=0.5)) >= count:
+            return True
+        time.sleep(0.05)
+    return False
