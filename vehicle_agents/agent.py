@@ -109,6 +109,13 @@ class Agent:
         self._stop_requested = True
 
     async def run(self) -> int:
+        try:
+            return await self._run()
+        finally:
+            await self.link.close()
+            self.swarm.close()
+
+    async def _run(self) -> int:
         cfg = self.config
         try:
             await self.link.connect(cfg.connect_timeout_s)
@@ -146,7 +153,8 @@ class Agent:
                 next_tick_s = time.monotonic()
                 delay_s = 0.0
             await asyncio.sleep(delay_s)
-        await self.link.close()
+        if self.stats.mission_wall_start_s is not None and self.stats.mission_wall_end_s is None:
+            self.stats.mission_wall_end_s = time.monotonic()
         return exit_code
 
     def _on_transition(self, old: Phase, new: Phase) -> None:
@@ -157,12 +165,10 @@ class Agent:
 
     def _read_command(self) -> None:
         msg: MissionCommand | None = self.swarm.latest_command()
-        if msg is None:
-            return
-        self.clock.observe(msg.t_s)
-        if msg.seq == self._command_seq:
+        if msg is None or msg.seq == self._command_seq:
             return
         self._command_seq = msg.seq
+        self.clock.observe(msg.t_s)
         if msg.target_ids and self.config.vehicle_id not in msg.target_ids:
             return
         if msg.flood_clock_start_t_s is not None:
@@ -224,8 +230,8 @@ class Agent:
         cfg = self.config
         self._update_perception()
         own = own_state(self.link.telemetry, cfg.pad_enu_m, cfg.has_gps)
-        heard = neighbour_infos(self.swarm.neighbours(), self.clock.now_s(), cfg.vehicle_id, self.swarm.departed(),
-                                cfg.params.neighbour_timeout_s)
+        now_s = self.clock.now_s()
+        heard = neighbour_infos(self.swarm.neighbours(now_s), now_s, cfg.vehicle_id, set(), cfg.params.neighbour_timeout_s)
         command, self._memory = control_step(cfg.role, self._memory, own, self._perception, heard, cfg.params,
                                              self._flood_time_s())
         self.stats.control_steps += 1

@@ -1,8 +1,8 @@
 """What the onboard loop needs from the swarm network, as one small interface.
 
-The Zenoh implementation is :class:`vehicle_agents.swarm_link_zenoh.ZenohSwarmLink`; tests of the loop's logic can
-use an in-memory one. Everything here is newest-value: a control step wants the latest camera frame, the latest
-message of each neighbour and the latest ground-station command, never a backlog.
+The Zenoh implementation is :class:`vehicle_agents.swarm_link_zenoh.ZenohSwarmLink` (built on the comms team's
+``SwarmLink`` and ``NeighbourTable``). Everything here is newest-value: a control step wants the latest camera
+frame, the latest message of each live neighbour and the latest ground-station command, never a backlog.
 """
 
 from __future__ import annotations
@@ -17,16 +17,12 @@ class SwarmPort(Protocol):
         """The newest camera frame of this vehicle (None before the first)."""
         ...
 
-    def neighbours(self) -> list[NeighbourState]:
-        """The newest message of every neighbour heard over the radio (the caller judges their age)."""
+    def neighbours(self, now_s: float) -> list[NeighbourState]:
+        """The newest message of every neighbour heard and not dead or stale at mission time ``now_s``."""
         ...
 
     def latest_command(self) -> MissionCommand | None:
-        """The newest ground-station command addressed to this vehicle or to everyone."""
-        ...
-
-    def departed(self) -> set[int]:
-        """Vehicles whose agent left (liveliness token gone): drop them at once rather than waiting for staleness."""
+        """The newest ground-station command (the caller checks whether it is addressed to it)."""
         ...
 
     def publish_state(self, state: NeighbourState) -> None:

@@ -1,0 +1,146 @@
+"""The simulator's side of the companion-computer link: camera frames and ground truth over Zenoh.
+
+A real drone's companion computer gets video from its own camera; here the mock fleet owns the world, so this
+bridge renders each airborne vehicle's downward camera (the world team's ``render_frame``) from the fleet's TRUE
+state and publishes it on that vehicle's camera key, like a video stream. It also publishes the whole fleet's
+ground truth, which feeds the radio emulator (range is decided on true positions) and the ground station's
+evaluation. Nothing here is seen by the agents except their own camera frames.
+
+The flood clock (SPEC §4) starts when every vehicle is airborne in OFFBOARD; the ground station sees that on the
+MAVLink GCS link and says so in its ``MissionCommand`` (``flood_clock_start_t_s``), which this bridge follows, so the
+flood the cameras see and the flood the metrics use share one clock. Everything is stamped with mission time,
+the fleet's simulation clock.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from comms.keys import MissionKeys
+from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, encode
+from comms.zenoh_session import ZenohSession
+from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.camera.render import render_frame
+from mock_autopilot.world.flood_model import FloodModel
+
+MIN_CAMERA_ALTITUDE_M = 1.0
+"""Below this the camera sees only the pad: no frames are sent (a real companion computer would send them, but no
+control law uses them on the ground)."""
+
+
+@dataclass(frozen=True)
+class VehicleTruth:
+    """One vehicle's true state [m, m/s; mission ENU] and PX4 yaw [rad; NED]; ``alive`` False once killed."""
+
+    vehicle_id: int
+    position_enu_m: NDArray[np.float64]
+    velocity_enu_mps: NDArray[np.float64]
+    yaw_ned_rad: float
+    alive: bool = True
+
+
+def ground_truth_message(t_s: float, vehicles: Sequence[VehicleTruth]) -> GroundTruth:
+    return GroundTruth(
+        t_s=float(t_s),
+        vehicle_ids=[v.vehicle_id for v in vehicles],
+        positions_enu_m=[tuple(float(c) for c in v.position_enu_m) for v in vehicles],  # type: ignore[misc]
+        velocities_enu_mps=[tuple(float(c) for c in v.velocity_enu_mps) for v in vehicles],  # type: ignore[misc]
+        yaw_ned_rad=[float(v.yaw_ned_rad) for v in vehicles],
+        alive=[bool(v.alive) for v in vehicles],
+    )
+
+
+def camera_frame_message(
+    vehicle: VehicleTruth, seq: int, t_s: float, flood: FloodModel, flood_t_s: float, camera: CameraModel, seed: int
+) -> CameraFrame:
+    """Render one vehicle's downward view at flood time ``flood_t_s`` and wrap it as raw BGR (no codec cost)."""
+    frame = render_frame(flood, flood_t_s, vehicle.position_enu_m, vehicle.yaw_ned_rad, camera, seed)
+    image = np.ascontiguousarray(frame.image_bgr, dtype=np.uint8)
+    return CameraFrame(
+        vehicle_id=vehicle.vehicle_id,
+        seq=seq,
+        t_s=float(t_s),
+        altitude_m=float(vehicle.position_enu_m[2]),
+        yaw_ned_rad=float(vehicle.yaw_ned_rad),
+        fov_deg=camera.fov_deg,
+        width_px=image.shape[1],
+        height_px=image.shape[0],
+        encoding="raw_bgr",
+        image=image.tobytes(),
+    )
+
+
+class SimBridge:
+    """Publishes truth every ``truth_period_s`` and camera frames every ``camera_period_s`` (mission seconds)."""
+
+    def __init__(
+        self,
+        session: ZenohSession,
+        mission: str,
+        flood: FloodModel,
+        camera: CameraModel,
+        seed: int,
+        camera_period_s: float,
+        truth_period_s: float,
+        on_flood_start: Callable[[float], None] | None = None,
+    ) -> None:
+        self.session = session
+        self.keys = MissionKeys(mission)
+        self.flood = flood
+        self.camera = camera
+        self.seed = seed
+        self.camera_period_s = camera_period_s
+        self.truth_period_s = truth_period_s
+        self.flood_clock_start_s: float | None = None
+        self._on_flood_start = on_flood_start
+        self._commands = session.subscribe(self.keys.command)
+        self._next_camera_s = 0.0
+        self._next_truth_s = 0.0
+        self._frame_seq: dict[int, int] = {}
+        self.frames_sent = 0
+        self.truths_sent = 0
+        session.declare_alive(self.keys.alive("sim"))
+
+    def flood_time_s(self, now_s: float) -> float:
+        """Flood clock: 0 until the ground station starts it, then mission time since the start."""
+        return 0.0 if self.flood_clock_start_s is None else max(0.0, now_s - self.flood_clock_start_s)
+
+    def _read_commands(self) -> None:
+        for item in self._commands.drain():
+            msg = decode(MissionCommand, item.payload)
+            if msg is not None and msg.flood_clock_start_t_s is not None and self.flood_clock_start_s is None:
+                self.flood_clock_start_s = msg.flood_clock_start_t_s
+                if self._on_flood_start is not None:
+                    self._on_flood_start(msg.flood_clock_start_t_s)
+
+    def tick(self, now_s: float, vehicles: Sequence[VehicleTruth]) -> None:
+        """Publish whatever is due at mission time ``now_s`` (call often; it keeps its own schedule)."""
+        self._read_commands()
+        if now_s >= self._next_truth_s:
+            self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
+            self.truths_sent += 1
+            self._next_truth_s = _next_due(self._next_truth_s, self.truth_period_s, now_s)
+        if now_s >= self._next_camera_s:
+            flood_t_s = self.flood_time_s(now_s)
+            for vehicle in vehicles:
+                if not vehicle.alive or vehicle.position_enu_m[2] < MIN_CAMERA_ALTITUDE_M:
+                    continue
+                seq = self._frame_seq.get(vehicle.vehicle_id, 0) + 1
+                self._frame_seq[vehicle.vehicle_id] = seq
+                msg = camera_frame_message(vehicle, seq, now_s, self.flood, flood_t_s, self.camera, self.seed)
+                self.session.put(self.keys.camera(vehicle.vehicle_id), encode(msg))
+                self.frames_sent += 1
+            self._next_camera_s = _next_due(self._next_camera_s, self.camera_period_s, now_s)
+
+    def next_due_s(self) -> float:
+        return min(self._next_camera_s, self._next_truth_s)
+
+
+def _next_due(due_s: float, period_s: float, now_s: float) -> float:
+    """The next slot of a fixed schedule; when behind, skip missed slots instead of bursting to catch up."""
+    due_s += period_s
+    return due_s if due_s > now_s else now_s + period_s
