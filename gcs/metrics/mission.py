@@ -191,7 +191,7 @@ def _edge_series(
         live = boundary[alive[k, boundary]]
         if len(live) == 0:
             continue
-        proj = project_onto_ring(pos[k, live, :2], rings[k])
+        proj = project_onto_ring(pos[k, live, :2], rings[k], with_nearest=False)
         errors[k, alive[k, boundary]] = proj.distance_m
         stats = spacing_from_arcs(proj.arc_m, proj.perimeter_m)
         cv[k], gap[k] = stats.cv, stats.max_gap_ratio
@@ -268,7 +268,7 @@ def _drone_ring_iou(pos_k: NDArray[np.float64], alive_k: NDArray[np.bool_], boun
     live = boundary[alive_k[boundary]]
     if len(live) < 3:
         return math.nan
-    arc = project_onto_ring(pos_k[live, :2], ring).arc_m
+    arc = project_onto_ring(pos_k[live, :2], ring, with_nearest=False).arc_m
     return polygon_iou(pos_k[live[np.argsort(arc)], :2], ring)
 
 

@@ -12,9 +12,9 @@ import math
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike
-from shapely.geometry import LinearRing, Polygon
+from shapely.geometry import Polygon
 
-from gcs.polygon.ring import densify_ring, open_ring
+from gcs.polygon.ring import densify_ring, distance_to_ring_m, open_ring, ring_perimeter_m
 
 
 def _polygon(ring_en_m: ArrayLike) -> Polygon | None:
@@ -38,12 +38,15 @@ def polygon_iou(ring_a_en_m: ArrayLike, ring_b_en_m: ArrayLike) -> float:
     return float(a.intersection(b).area / union) if union > 0 else math.nan
 
 
-def hausdorff_m(ring_a_en_m: ArrayLike, ring_b_en_m: ArrayLike, max_segment_m: float = 0.25) -> float:
-    """Symmetric Hausdorff distance [m] between two closed rings; NaN if either has fewer than 3 vertices."""
+def hausdorff_m(ring_a_en_m: ArrayLike, ring_b_en_m: ArrayLike, max_segment_m: float = 0.25, max_points: int = 1000) -> float:
+    """Symmetric Hausdorff distance [m] between two closed rings; NaN if either has fewer than 3 vertices.
+
+    Each ring is densified to ``max_segment_m`` but to no more than ~``max_points`` vertices (big floods), so the
+    result may under-read by at most half the spacing used.
+    """
     a, b = open_ring(ring_a_en_m), open_ring(ring_b_en_m)
     if len(a) < 3 or len(b) < 3:
         return math.nan
-    a_dense, b_dense = densify_ring(a, max_segment_m), densify_ring(b, max_segment_m)
-    a_to_b = shapely.distance(shapely.points(a_dense), LinearRing(b))
-    b_to_a = shapely.distance(shapely.points(b_dense), LinearRing(a))
-    return float(max(np.max(a_to_b), np.max(b_to_a)))
+    spacing = max(max_segment_m, ring_perimeter_m(a) / max_points, ring_perimeter_m(b) / max_points)
+    a_dense, b_dense = densify_ring(a, spacing), densify_ring(b, spacing)
+    return float(max(np.max(distance_to_ring_m(a_dense, b)), np.max(distance_to_ring_m(b_dense, a))))

@@ -45,21 +45,21 @@ def pairwise_safety(
     events = 0
     best = math.inf
     best_pair: tuple[int, int] | None = None
-    step = max(1, chunk_elements // (n * n))
+    step = max(1, chunk_elements // len(iu))
     for lo in range(0, n_t, step):
         p = pos[lo : lo + step]
         a = ok[lo : lo + step]
-        d = np.linalg.norm(p[:, :, None, :] - p[:, None, :, :], axis=-1)[:, iu, ju]
-        valid = a[:, iu] & a[:, ju]
-        d = np.where(valid, d, np.inf)
-        mins = d.min(axis=1)
+        diff = p[:, iu, :] - p[:, ju, :]
+        d2 = np.einsum("tpc,tpc->tp", diff, diff)
+        d2[~(a[:, iu] & a[:, ju])] = np.inf
+        mins = np.sqrt(d2.min(axis=1))
         series[lo : lo + step] = np.where(np.isfinite(mins), mins, np.nan)
         k = int(np.argmin(mins))
         if mins[k] < best:
             best = float(mins[k])
-            m = int(np.argmin(d[k]))
+            m = int(np.argmin(d2[k]))
             best_pair = (int(iu[m]), int(ju[m]))
-        close = d < near_miss_m
+        close = d2 < near_miss_m * near_miss_m
         ever |= close.any(axis=0)
         rising = close & ~np.vstack([previous[None, :], close[:-1]])
         events += int(rising.sum())

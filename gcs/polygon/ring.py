@@ -10,7 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from numpy.typing import ArrayLike, NDArray
+from shapely.geometry import LineString, Polygon
 
 
 def open_ring(ring_en_m: ArrayLike) -> NDArray[np.float64]:
@@ -79,41 +81,35 @@ class RingProjection:
     perimeter_m: float
 
 
-def project_onto_ring(points_en_m: ArrayLike, ring_en_m: ArrayLike, chunk_elements: int = 2_000_000) -> RingProjection:
+def project_onto_ring(points_en_m: ArrayLike, ring_en_m: ArrayLike, *, with_nearest: bool = True) -> RingProjection:
     """Project (P, 2) points onto the closed ring (K, 2): nearest point, distance, arc position, signed offset.
 
-    Brute force over all segments (P x K), chunked over points so memory stays bounded for big fleets.
+    GEOS (through shapely, vectorised over points) finds the nearest point and its arc position; the side is read
+    from whether the point lies inside the ring and which way the ring turns (right of travel = outside for CCW).
+    ``with_nearest=False`` skips computing the nearest points (NaN) when only distances and arcs are needed.
     """
     pts = np.asarray(points_en_m, dtype=float).reshape(-1, 2)
     ring = open_ring(ring_en_m)
     n_pts = len(pts)
-    if len(ring) == 0 or n_pts == 0:
+    if len(ring) < 2 or n_pts == 0:
         empty = np.full(n_pts, np.nan)
         return RingProjection(empty, empty.copy(), empty.copy(), np.full((n_pts, 2), np.nan), 0.0)
-    start = ring
-    seg = np.roll(ring, -1, axis=0) - ring
-    seg_len = np.linalg.norm(seg, axis=1)
-    seg_len2 = np.where(seg_len > 0.0, seg_len**2, 1.0)
-    cum = np.concatenate([[0.0], np.cumsum(seg_len)[:-1]])
-    perimeter = float(seg_len.sum())
-    distance = np.empty(n_pts)
-    arc = np.empty(n_pts)
-    offset = np.empty(n_pts)
-    nearest = np.empty((n_pts, 2))
-    step = max(1, chunk_elements // max(1, len(ring)))
-    for lo in range(0, n_pts, step):
-        p = pts[lo : lo + step]
-        rel = p[:, None, :] - start[None, :, :]
-        u = np.clip(np.einsum("pkc,kc->pk", rel, seg) / seg_len2[None, :], 0.0, 1.0)
-        foot = start[None, :, :] + u[..., None] * seg[None, :, :]
-        d2 = np.sum((p[:, None, :] - foot) ** 2, axis=-1)
-        k = np.argmin(d2, axis=1)
-        rows = np.arange(len(p))
-        distance[lo : lo + step] = np.sqrt(d2[rows, k])
-        arc[lo : lo + step] = cum[k] + u[rows, k] * seg_len[k]
-        nearest[lo : lo + step] = foot[rows, k]
-        cross = seg[k, 0] * rel[rows, k, 1] - seg[k, 1] * rel[rows, k, 0]
-        offset[lo : lo + step] = -np.sign(cross) * distance[lo : lo + step]
+    line = LineString(np.vstack([ring, ring[:1]]))
+    perimeter = float(line.length)
+    finite = np.all(np.isfinite(pts), axis=1)
+    geoms = shapely.points(np.where(finite[:, None], pts, 0.0))
+    distance = np.where(finite, shapely.distance(geoms, line), np.nan)
+    arc = np.where(finite, shapely.line_locate_point(line, geoms), np.nan)
+    nearest = np.full((n_pts, 2), np.nan)
+    if with_nearest:
+        nearest = shapely.get_coordinates(shapely.line_interpolate_point(line, np.where(finite, arc, 0.0)))
+        nearest[~finite] = np.nan
+    if len(ring) >= 3:
+        inside = shapely.contains_xy(Polygon(ring), pts[:, 0], pts[:, 1])
+        outward = 1.0 if signed_area_m2(ring) >= 0.0 else -1.0
+        offset = np.where(inside, -outward, outward) * distance
+    else:
+        offset = distance.copy()
     if perimeter > 0.0:
         arc = np.mod(arc, perimeter)
     return RingProjection(distance, arc, offset, nearest, perimeter)
@@ -121,4 +117,10 @@ def project_onto_ring(points_en_m: ArrayLike, ring_en_m: ArrayLike, chunk_elemen
 
 def distance_to_ring_m(points_en_m: ArrayLike, ring_en_m: ArrayLike) -> NDArray[np.float64]:
     """Unsigned distance [m] of each point to the closed ring."""
-    return project_onto_ring(points_en_m, ring_en_m).distance_m
+    pts = np.asarray(points_en_m, dtype=float).reshape(-1, 2)
+    ring = open_ring(ring_en_m)
+    if len(ring) < 2 or len(pts) == 0:
+        return np.full(len(pts), np.nan)
+    line = LineString(np.vstack([ring, ring[:1]]))
+    finite = np.all(np.isfinite(pts), axis=1)
+    return np.where(finite, shapely.distance(shapely.points(np.where(finite[:, None], pts, 0.0)), line), np.nan)
