@@ -1,0 +1,60 @@
+"""Improved mode: collision-aware separation between ALL roles.
+
+The paper separates boundary drones from boundary drones (eq 6) and followers from followers (eq 10) only; a
+follower and the leader, or a boundary drone and a follower, never push each other. Here every vehicle heard
+within ``radius_m`` pushes this one away with ``gain · (1 − x/radius)²`` m/s, strong enough near contact to beat
+the tracking terms, zero at the radius.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+def safety_velocity(
+    own_en_m: NDArray[np.float64], others_en_m: NDArray[np.float64], radius_m: float, gain_mps: float
+) -> NDArray[np.float64]:
+    """Sum of short-range pushes [m/s; E, N] away from every other vehicle closer than ``radius_m``."""
+    others = np.asarray(others_en_m, dtype=float).reshape(-1, 2)
+    if others.shape[0] == 0 or radius_m <= 0.0 or gain_mps == 0.0:
+        return np.zeros(2)
+    diff = np.asarray(own_en_m, dtype=float)[None, :] - others
+    dist = np.hypot(diff[:, 0], diff[:, 1])
+    near = (dist < radius_m) & (dist > 1e-9)
+    if not np.any(near):
+        return np.zeros(2)
+    strength = gain_mps * (1.0 - dist[near] / radius_m) ** 2 / dist[near]
+    return (strength[:, None] * diff[near]).sum(axis=0)
+
+
+def safety_filter(
+    velocity_en_mps: NDArray[np.float64],
+    own_en_m: NDArray[np.float64],
+    others_en_m: NDArray[np.float64],
+    min_distance_m: float,
+    radius_m: float,
+    closing_rate_per_s: float,
+) -> NDArray[np.float64]:
+    """Limit the speed towards each close neighbour so that the gap can never close below ``min_distance_m``.
+
+    For a neighbour at distance x < ``radius_m`` in direction u, the component of the command along u is capped at
+    ``closing_rate_per_s · (x − min_distance_m)`` (negative inside the minimum: move away). A control-barrier
+    style filter, applied neighbour by neighbour, nearest last so that it has the final word.
+    """
+    v = np.asarray(velocity_en_mps, dtype=float).copy()
+    others = np.asarray(others_en_m, dtype=float).reshape(-1, 2)
+    if others.shape[0] == 0:
+        return v
+    diff = others - np.asarray(own_en_m, dtype=float)[None, :]
+    dist = np.hypot(diff[:, 0], diff[:, 1])
+    for k in np.argsort(-dist):
+        x = float(dist[k])
+        if x >= radius_m or x < 1e-9:
+            continue
+        u = diff[k] / x
+        allowed = closing_rate_per_s * (x - min_distance_m)
+        along = float(np.dot(v, u))
+        if along > allowed:
+            v -= (along - allowed) * u
+    return v

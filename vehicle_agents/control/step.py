@@ -1,0 +1,97 @@
+"""The one entry point of the control laws, called by the lockstep engine and by the per-process agent alike.
+
+Inputs are only what one drone can know: its own odometry in the mission frame (:class:`OwnState`), its camera's
+perception result, and the neighbours it heard over the radio (:class:`NeighbourInfo`, with their age). The
+output is a velocity setpoint in mission ENU and the drone's new control memory. Pure: no clock, no I/O.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from vehicle_agents.control.boundary import boundary_step
+from vehicle_agents.control.follower import follower_step
+from vehicle_agents.control.leader import leader_step
+from vehicle_agents.control.memory import ControlMemory
+from vehicle_agents.control.params import ControlParams, RosterEntry
+from vehicle_agents.control.safety import safety_filter
+from vehicle_agents.control.types import (
+    ROLE_BOUNDARY,
+    ROLE_FOLLOWER,
+    ROLE_LEADER,
+    ROLES,
+    NeighbourInfo,
+    OwnState,
+    VelocityCommand,
+)
+from vehicle_agents.perception.result import PerceptionResult
+
+
+def initial_memory(role: str, vehicle_id: int, params: ControlParams) -> ControlMemory:
+    """The memory a drone starts its mission with (its roster entry looked up in ``params``)."""
+    if role not in ROLES:
+        raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
+    entry = params.entry(vehicle_id)
+    if entry.role != role:
+        entry = RosterEntry(vehicle_id=vehicle_id, role=role, group=entry.group, rank=entry.rank,
+                            layer=entry.layer, ref_id=entry.ref_id, has_gps=entry.has_gps)
+    return ControlMemory(role=role, vehicle_id=vehicle_id, entry=entry)
+
+
+def usable_neighbours(own_id: int, neighbours: Sequence[NeighbourInfo], timeout_s: float) -> list[NeighbourInfo]:
+    """Neighbours other than oneself, heard within ``timeout_s``, with finite positions."""
+    return [
+        n for n in neighbours
+        if n.vehicle_id != own_id and n.age_s <= timeout_s and np.all(np.isfinite(n.position_en_m))
+    ]
+
+
+def control_step(
+    role: str,
+    memory: ControlMemory,
+    own: OwnState,
+    perception: PerceptionResult | None,
+    neighbours: Sequence[NeighbourInfo],
+    params: ControlParams,
+    t_s: float,
+) -> tuple[VelocityCommand, ControlMemory]:
+    """One control step of ``role``: boundary (eq 8, Algorithm 1), leader (eq 9) or follower (eq 10).
+
+    The yaw is held at north (0 rad NED) so that camera footprints stay axis-aligned squares. Improved mode
+    passes the command through the collision barrier of :func:`safety.safety_filter` against every heard vehicle.
+    """
+    heard = usable_neighbours(memory.vehicle_id, neighbours, params.neighbour_timeout_s)
+    if role == ROLE_BOUNDARY:
+        velocity, memory = boundary_step(memory, own, perception, heard, params, t_s)
+    elif role == ROLE_LEADER:
+        velocity, memory = leader_step(memory, own, heard, params, t_s)
+    elif role == ROLE_FOLLOWER:
+        velocity, memory = follower_step(memory, own, heard, params, t_s)
+    else:
+        raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
+    if params.mode == "improved" and heard:
+        others = np.array([n.position_en_m for n in heard], dtype=float).reshape(-1, 2)
+        velocity[:2] = safety_filter(velocity[:2], own.position_en_m, others, params.safety_min_distance_m,
+                                     params.safety_radius_m, params.safety_closing_rate_per_s)
+    if not np.all(np.isfinite(velocity)):
+        velocity = np.zeros(3)
+    return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory
+
+
+def own_broadcast(memory: ControlMemory, own: OwnState, t_s: float) -> NeighbourInfo:
+    """What this drone tells its neighbours this step (age 0 at the sender; receivers add the delay)."""
+    entry = memory.entry
+    return NeighbourInfo(
+        vehicle_id=memory.vehicle_id,
+        role=memory.role,
+        position_en_m=np.asarray(own.position_en_m, dtype=float),
+        velocity_en_mps=np.asarray(own.velocity_en_mps, dtype=float),
+        altitude_m=float(own.altitude_m),
+        age_s=0.0,
+        group=entry.group,
+        leading=memory.leading,
+        encircled=memory.encircled,
+        ring_radius_m=memory.ring_radius_m,
+    )
