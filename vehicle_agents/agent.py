@@ -13,7 +13,6 @@ import asyncio
 import logging
 import time
 from dataclasses import dataclass, field
-from typing import Any
 
 import cv2
 import numpy as np
@@ -21,7 +20,8 @@ import numpy as np
 from comms.messages import CameraFrame, MissionCommand
 from vehicle_agents.autopilot_link import AutopilotLink, AutopilotLinkError
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.step import control_step, initial_memory
+from vehicle_agents.control.memory import ControlMemory
+from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
 from vehicle_agents.mission_clock import MissionClock
 from vehicle_agents.onboard_view import neighbour_infos, own_state, state_message, velocity_ned
@@ -93,7 +93,7 @@ class Agent:
         self.clock = MissionClock(config.speed)
         self.stats = AgentStats()
         self.phase = Phase.CONNECTING
-        self._memory: Any = initial_memory(config.role, config.vehicle_id, config.params)
+        self._memory: ControlMemory = initial_memory(config.role, config.vehicle_id, config.params)
         self._perception: PerceptionResult | None = None
         self._frame_seq = -1
         self._seq = 0
@@ -246,25 +246,17 @@ class Agent:
         if self.phase is not Phase.MISSION:
             self._update_perception()
         self._seq += 1
+        t_s = self.clock.now_s()
         self.swarm.publish_state(
             state_message(
-                vehicle_id=cfg.vehicle_id,
-                role=cfg.role,
-                group=cfg.group,
                 seq=self._seq,
-                t_s=self.clock.now_s(),
+                t_s=t_s,
+                broadcast=own_broadcast(self._memory, own, t_s),
                 own=own,
                 tel=tel,
                 perception=self._perception,
-                encircled=bool(getattr(self._memory, "encircled", False)),
+                edge_points_en_m=self._memory.edge_points_en_m,
                 leaving=leaving,
                 low_battery=tel.battery_fraction < cfg.limits.low_battery_fraction,
-                extras=_memory_extras(self._memory),
             )
         )
-
-
-def _memory_extras(memory: Any) -> dict[str, float]:
-    """Numbers the control law wants gossiped (e.g. ``ring_radius_m``), if its memory has them."""
-    value = getattr(memory, "ring_radius_m", None)
-    return {"ring_radius_m": float(value)} if value is not None else {}

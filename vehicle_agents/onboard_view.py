@@ -19,6 +19,7 @@ from comms.messages import (
     FLAG_ARMED,
     FLAG_CLIMBING_TO_FIND_EDGE,
     FLAG_HAS_GPS,
+    FLAG_LEADING,
     FLAG_LEAVING,
     FLAG_LOW_BATTERY,
     FLAG_OFFBOARD,
@@ -68,6 +69,7 @@ def neighbour_infos(
                 altitude_m=msg.altitude_m,
                 age_s=age_s,
                 group=msg.group or None,
+                leading=msg.has(FLAG_LEADING),
                 encircled=msg.encircle_complete,
                 ring_radius_m=None if ring_radius_m is None else float(ring_radius_m),
             )
@@ -82,11 +84,9 @@ def velocity_ned(command: VelocityCommand) -> tuple[float, float, float]:
     return float(north), float(east), float(down)
 
 
-def edge_points_absolute(own: OwnState, perception: PerceptionResult | None) -> list[tuple[float, float]]:
-    """The water-edge points the camera sees, absolute in the mission frame, evenly subsampled for the radio."""
-    if perception is None or len(perception.edge_points_en_m) == 0:
-        return []
-    points: NDArray[np.float64] = np.asarray(perception.edge_points_en_m, dtype=float) + own.position_en_m
+def edge_points_for_radio(edge_points_en_m: NDArray[np.float64]) -> list[tuple[float, float]]:
+    """Absolute edge points [m; mission E, N] evenly subsampled to :data:`EDGE_POINTS_PER_MESSAGE` for the radio."""
+    points = np.asarray(edge_points_en_m, dtype=float).reshape(-1, 2)
     points = points[np.all(np.isfinite(points), axis=1)]
     if len(points) > EDGE_POINTS_PER_MESSAGE:
         points = points[np.linspace(0, len(points) - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)]
@@ -95,20 +95,18 @@ def edge_points_absolute(own: OwnState, perception: PerceptionResult | None) -> 
 
 def state_message(
     *,
-    vehicle_id: int,
-    role: str,
-    group: str | None,
     seq: int,
     t_s: float,
+    broadcast: NeighbourInfo,
     own: OwnState,
     tel: AutopilotTelemetry,
     perception: PerceptionResult | None,
-    encircled: bool,
+    edge_points_en_m: NDArray[np.float64],
     leaving: bool,
     low_battery: bool,
-    extras: dict[str, float],
 ) -> NeighbourState:
-    """This drone's broadcast: its own estimate (odometry; GPS only where fitted), status flags, boundary extras."""
+    """This drone's broadcast: the control law's own message (``own_broadcast``: role, group, leading, encircled,
+    ring radius) plus status flags, GPS where fitted, and for boundary drones the edge points it sees (absolute)."""
     flags = 0
     flags |= FLAG_ARMED if tel.armed else 0
     flags |= FLAG_AIRBORNE if tel.in_air else 0
@@ -119,10 +117,12 @@ def state_message(
     if perception is not None:
         flags |= FLAG_SEES_EDGE if perception.has_edge else 0
         flags |= FLAG_CLIMBING_TO_FIND_EDGE if (perception.only_land or perception.only_water) else 0
+    flags |= FLAG_LEADING if broadcast.leading else 0
     gps_ok = own.has_gps and tel.has_global_position and math.isfinite(tel.latitude_deg)
+    extras = {} if broadcast.ring_radius_m is None else {"ring_radius_m": float(broadcast.ring_radius_m)}
     return NeighbourState(
-        sender_id=vehicle_id,
-        role=role,  # type: ignore[arg-type]
+        sender_id=broadcast.vehicle_id,
+        role=broadcast.role,  # type: ignore[arg-type]
         seq=seq,
         t_s=float(t_s),
         position_en_m=(float(own.position_en_m[0]), float(own.position_en_m[1])),
@@ -134,8 +134,8 @@ def state_message(
         lon_deg=float(tel.longitude_deg) if gps_ok else None,
         flags=flags,
         battery_fraction=float(tel.battery_fraction),
-        group=(group or ""),  # type: ignore[arg-type]
-        encircle_complete=encircled,
-        edge_points_en_m=edge_points_absolute(own, perception) if role == "boundary" else [],
-        extras={k: float(v) for k, v in extras.items() if math.isfinite(v)},
+        group=(broadcast.group or ""),  # type: ignore[arg-type]
+        encircle_complete=broadcast.encircled,
+        edge_points_en_m=edge_points_for_radio(edge_points_en_m) if broadcast.role == "boundary" else [],
+        extras={k: v for k, v in extras.items() if math.isfinite(v)},
     )

@@ -5,11 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from comms.messages import FLAG_HAS_GPS, FLAG_LEAVING, FLAG_OFFBOARD, NeighbourState, decode, encode
+from comms.messages import FLAG_HAS_GPS, FLAG_LEADING, FLAG_LEAVING, FLAG_OFFBOARD, NeighbourState, decode, encode
 from vehicle_agents.autopilot_link import AutopilotTelemetry
-from vehicle_agents.control.types import VelocityCommand
+from vehicle_agents.control.types import NeighbourInfo, VelocityCommand
 from vehicle_agents.onboard_view import neighbour_infos, own_state, state_message, velocity_ned
-from vehicle_agents.perception.result import PerceptionResult
 
 
 def test_own_state_is_pad_plus_local_ned_in_enu() -> None:
@@ -42,15 +41,18 @@ def test_state_message_round_trips_with_absolute_edge_points() -> None:
     tel = AutopilotTelemetry(position_ned_m=(0.0, 0.0, -10.0), flight_mode="OFFBOARD", armed=True, in_air=True,
                              has_global_position=True, latitude_deg=47.0, longitude_deg=8.0)
     own = own_state(tel, (14.0, 0.0), has_gps=True)
-    edge = np.column_stack([np.linspace(-1, 1, 100), np.zeros(100)])
-    perception = PerceptionResult(has_edge=True, water_fraction=0.5, only_land=False, only_water=False,
-                                  footprint_side_m=11.5, edge_points_en_m=edge)
-    msg = state_message(vehicle_id=3, role="boundary", group="B", seq=7, t_s=12.5, own=own, tel=tel,
-                        perception=perception, encircled=False, leaving=False, low_battery=False,
-                        extras={"ring_radius_m": 13.0})
+    edge = np.column_stack([np.linspace(13.0, 15.0, 100), np.zeros(100)])
+    broadcast = NeighbourInfo(vehicle_id=3, role="boundary", position_en_m=own.position_en_m,
+                              velocity_en_mps=own.velocity_en_mps, altitude_m=10.0, group="B", leading=True,
+                              encircled=False, ring_radius_m=13.0)
+    msg = state_message(seq=7, t_s=12.5, broadcast=broadcast, own=own, tel=tel, perception=None,
+                        edge_points_en_m=edge, leaving=False, low_battery=False)
     back = decode(NeighbourState, encode(msg))
     assert back is not None and back.sender_id == 3 and back.group == "B"
-    assert back.has(FLAG_OFFBOARD) and back.has(FLAG_HAS_GPS) and back.lat_deg == 47.0
+    assert back.has(FLAG_OFFBOARD) and back.has(FLAG_HAS_GPS) and back.has(FLAG_LEADING) and back.lat_deg == 47.0
+    assert back.extras == {"ring_radius_m": 13.0}
     pts = np.array(back.edge_points_en_m)
     assert 3 <= len(pts) <= 32
     assert pts[:, 0].min() == pytest.approx(13.0) and pts[:, 0].max() == pytest.approx(15.0)
+    info = neighbour_infos([back], now_s=12.6, own_id=1, departed=set(), timeout_s=3.0)[0]
+    assert info.leading and info.group == "B" and info.ring_radius_m == 13.0

@@ -1,0 +1,449 @@
+"""The process engine's ground station: starts the mission's processes, watches them, records, reports.
+
+Sequence (SPEC §1, §6):
+
+1. open the mission's Zenoh hub (the port outside clients join) and the MAVLink GCS port, so a busy port fails
+   before any child starts;
+2. start the mock fleet with its simulator bridge, the radio emulator, and one agent process per vehicle;
+3. STARTING: wait until every vehicle is heard on the GCS link and every agent holds its liveliness token;
+4. TAKEOFF: the agents arm, take off and switch to OFFBOARD on their own; when the GCS link shows every vehicle
+   armed, airborne and in OFFBOARD, the ground station starts the flood clock and commands ``start``;
+5. MISSION: records ground truth, aggregates and publishes the caged polygon, reports vehicles and agents lost;
+6. at the end of the flood clock it commands ``hold``, stops every process and writes the outputs.
+
+Any failure (a child that dies early, a timeout, Ctrl-C) ends the run with one clear message and a non-zero exit
+code; every path stops every child and writes what was recorded.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import math
+import signal
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.live import Live
+
+from comms.keys import MissionKeys
+from comms.messages import FLAG_SEES_EDGE, GroundTruth, MissionCommand, NeighbourState, decode, encode, flood_polygon_from_enu
+from comms.swarm_link import SwarmLink
+from comms.zenoh_session import ZenohConfig, ZenohSession
+from gcs.metrics.coverage import CoverageGrid, footprint_coverage
+from gcs.metrics.polygon_quality import polygon_iou
+from gcs.mission_record import PolygonSample
+from gcs.polygon.growth import polygon_growth_rate_m2ps
+from gcs.processes.event_log import EventLog
+from gcs.processes.launch import ProcessOptions, agent_command, radio_command, sim_command
+from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
+from gcs.processes.mavlink_watch import MavlinkWatcher
+from gcs.processes.polygon_feed import aggregate_polygon, georeference_offset_en_m
+from gcs.processes.recorder import MissionRecorder
+from gcs.processes.supervisor import Child, Supervisor
+from gcs.scenario import Scenario
+from mock_autopilot.world.config import flood_model_from_config
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_INTERRUPTED = 130
+VEHICLE_LOST_AFTER_S = 2.0
+"""Wall seconds without a heartbeat on the GCS link before a vehicle is reported lost (SPEC §7: within 2 s)."""
+_AIRBORNE_FRACTION = 0.8
+_COMMAND_REPEAT_S = 0.5
+_SNAPSHOT_PERIOD_S = 5.0
+_VIEW_PERIOD_S = 0.25
+_STATUS_LINE_PERIOD_S = 5.0
+
+
+class MissionFailed(RuntimeError):
+    """The mission cannot go on; the message is the one line the user sees."""
+
+
+class GroundStation:
+    def __init__(self, scenario: Scenario, options: ProcessOptions, out_dir: Path, console: Console | None = None) -> None:
+        self.scenario = scenario
+        self.options = options
+        self.out_dir = out_dir
+        self.mission = options.mission or scenario.name
+        self.keys = MissionKeys(self.mission)
+        self.console = console or Console(stderr=False)
+        self.duration_s = options.duration_s if options.duration_s is not None else scenario.duration_s
+        self.params = scenario.control_params(options.mode)
+        self.ring_order = [vid for vid in self.params.ring_order()]
+        self.vehicle_ids = [v.vehicle_id for v in scenario.vehicles]
+        self.roles = {v.vehicle_id: v.role for v in scenario.vehicles}
+        self.groups = {v.vehicle_id: v.group or "" for v in scenario.vehicles}
+        self.leader_id = next((v.vehicle_id for v in scenario.vehicles if v.role == "leader" and v.has_gps), None)
+        self.flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+        self.recorder = MissionRecorder(scenario.name, options.mode, scenario.seed, self.vehicle_ids,
+                                        [self.roles[v] for v in self.vehicle_ids])
+        self.phase = "starting"
+        self.mission_t_s = 0.0
+        self.flood_clock_start_s: float | None = None
+        self.truth: GroundTruth | None = None
+        self.states: dict[int, NeighbourState] = {}
+        self.agent_alive: dict[int, bool] = {}
+        self.lost: dict[int, float] = {}
+        self.polygon_iou = math.nan
+        self.coverage = math.nan
+        self.polygon_area_m2 = math.nan
+        self.events = EventLog(out_dir / "events.log", lambda: self.mission_t_s)
+        self.supervisor = Supervisor(out_dir)
+        self.agents: dict[int, Child] = {}
+        self.services: dict[str, Child] = {}
+        self._interrupted = False
+        self._exited_agents: set[int] = set()
+        self._command_seq = 0
+        self._next_polygon_t_s = 0.0
+        self._grid = CoverageGrid.around(*_flood_box(self.flood, self.duration_s), max_cells_per_side=100)
+
+    # ------------------------------------------------------------------ life cycle
+    async def run(self) -> int:
+        loop = asyncio.get_running_loop()
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.add_signal_handler(sig, self._interrupt)
+        code = EXIT_FAILED
+        hub: ZenohSession | None = None
+        watcher: MavlinkWatcher | None = None
+        try:
+            self.events(f"mission {self.mission}: scenario {self.scenario.name}, mode {self.options.mode}, seed "
+                        f"{self.scenario.seed}, {len(self.vehicle_ids)} vehicles, speed x{self.options.speed:g}, "
+                        f"duration {self.duration_s:g} s, output {self.out_dir}")
+            hub = self._open_hub()
+            watcher = MavlinkWatcher(self.out_dir, self.events)
+            try:
+                await watcher.open("127.0.0.1", self.options.gcs_port)
+            except OSError as exc:
+                raise MissionFailed(str(exc.strerror or exc)) from None
+            self._start_children()
+            code = await self._watch(hub, watcher)
+        except MissionFailed as exc:
+            self.events(f"mission failed: {exc}")
+            self.console.print(f"[bold red]mission failed:[/] {exc}")
+            code = EXIT_FAILED
+        finally:
+            self.supervisor.stop_all()
+            self._report_exits()
+            if watcher is not None:
+                watcher.close()
+            if hub is not None:
+                hub.close()
+            self._finish(code)
+            self.events.close()
+        return code
+
+    def _interrupt(self) -> None:
+        self._interrupted = True
+
+    def _open_hub(self) -> ZenohSession:
+        from comms.zenoh_session import ZenohOpenError
+
+        try:
+            return ZenohSession(ZenohConfig.hub(self.options.zenoh_endpoint))
+        except ZenohOpenError as exc:
+            raise MissionFailed(f"Zenoh endpoint {self.options.zenoh_endpoint} is not free: {exc}") from None
+
+    def _start_children(self) -> None:
+        opts = self.options
+        self.services["sim"] = self.supervisor.start("sim", sim_command(opts, self.mission))
+        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
+        for vehicle in self.scenario.vehicles:
+            self.agents[vehicle.vehicle_id] = self.supervisor.start(
+                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, vehicle.role, self.mission)
+            )
+            self.agent_alive[vehicle.vehicle_id] = False
+        pids = {child.name: child.pid for child in self.supervisor.children}
+        (self.out_dir / "processes.json").write_text(json.dumps(pids, indent=1))
+        self.events(f"started {len(self.supervisor.children)} processes: fleet+bridge, radio, "
+                    f"{len(self.agents)} agents (logs in {self.out_dir})")
+
+    # ------------------------------------------------------------------ the loop
+    async def _watch(self, hub: ZenohSession, watcher: MavlinkWatcher) -> int:
+        truth_buf = hub.subscribe(self.keys.truth)
+        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
+        started_wall_s = time.monotonic()
+        takeoff_deadline_s: float | None = None
+        tick_s = min(0.05, 1.0 / (self.scenario.control_rate_hz * self.options.speed))
+        next_command_s = next_snapshot_s = next_view_s = 0.0
+        next_status_s = time.monotonic() + _STATUS_LINE_PERIOD_S
+        live = Live(console=self.console, refresh_per_second=4, transient=False) if self._use_live() else None
+        if live is not None:
+            live.start()
+        try:
+            while True:
+                await asyncio.sleep(tick_s)
+                now_wall_s = time.monotonic()
+                if self._interrupted:
+                    self.events("interrupted (Ctrl-C / SIGTERM): stopping every process")
+                    self.console.print("[bold yellow]interrupted:[/] stopping every process, writing what was recorded")
+                    return EXIT_INTERRUPTED
+                for item in truth_buf.drain():
+                    truth = decode(GroundTruth, item.payload)
+                    if truth is not None and (self.truth is None or truth.t_s >= self.truth.t_s):
+                        self.truth = truth
+                        self.mission_t_s = truth.t_s
+                self._poll_swarm(link)
+                self._check_children()
+                self._check_vehicles(watcher, now_wall_s)
+                if self.phase == "starting":
+                    if self._everyone_up(watcher):
+                        self.phase = "takeoff"
+                        takeoff_deadline_s = self.mission_t_s + self.options.takeoff_timeout_s
+                        self.events(f"all {len(self.vehicle_ids)} vehicles and agents up after "
+                                    f"{now_wall_s - started_wall_s:.1f} s: taking off")
+                    elif now_wall_s - started_wall_s > self.options.startup_timeout_s:
+                        raise MissionFailed(self._startup_problem(watcher))
+                elif self.phase == "takeoff":
+                    if self._everyone_in_offboard(watcher):
+                        self.phase = "mission"
+                        self.flood_clock_start_s = self.mission_t_s
+                        self.events(f"every vehicle airborne in OFFBOARD: flood clock starts, mission start")
+                        next_command_s = 0.0
+                    elif takeoff_deadline_s is not None and self.mission_t_s > takeoff_deadline_s:
+                        raise MissionFailed(self._takeoff_problem(watcher))
+                elif self.phase == "mission":
+                    self._record(watcher)
+                    flood_t_s = self._flood_t_s()
+                    if flood_t_s >= self._next_polygon_t_s:
+                        self._polygon(hub, flood_t_s)
+                        self._next_polygon_t_s += self.scenario.polygon_period_s
+                    if flood_t_s >= self.duration_s:
+                        self.phase = "done"
+                        self.events(f"flood clock reached {self.duration_s:g} s: mission complete, vehicles hold")
+                        self._command(hub, "hold")
+                        await asyncio.sleep(max(0.2, 2 * tick_s))
+                        return EXIT_OK
+                if now_wall_s >= next_command_s and self.phase in ("takeoff", "mission"):
+                    self._command(hub, "start" if self.phase == "mission" else "phase")
+                    next_command_s = now_wall_s + _COMMAND_REPEAT_S
+                if now_wall_s >= next_snapshot_s and len(self.recorder):
+                    self.recorder.save_snapshot(self.out_dir / "record.npz")
+                    next_snapshot_s = now_wall_s + _SNAPSHOT_PERIOD_S
+                if now_wall_s >= next_view_s:
+                    snapshot = self._snapshot(watcher, now_wall_s)
+                    if live is not None:
+                        live.update(render(snapshot))
+                    elif now_wall_s >= next_status_s:
+                        print(status_line(snapshot), flush=True)
+                        next_status_s = now_wall_s + _STATUS_LINE_PERIOD_S
+                    next_view_s = now_wall_s + _VIEW_PERIOD_S
+        finally:
+            if live is not None:
+                live.stop()
+
+    def _use_live(self) -> bool:
+        return self.options.live and self.console.is_terminal
+
+    def _flood_t_s(self) -> float:
+        return 0.0 if self.flood_clock_start_s is None else self.mission_t_s - self.flood_clock_start_s
+
+    def _command(self, hub: ZenohSession, command: str) -> None:
+        self._command_seq += 1
+        msg = MissionCommand(seq=self._command_seq, t_s=self.mission_t_s, command=command,  # type: ignore[arg-type]
+                             phase=self.phase, flood_clock_start_t_s=self.flood_clock_start_s)
+        hub.put(self.keys.command, encode(msg))
+
+    # ------------------------------------------------------------------ what is going on
+    def _poll_swarm(self, link: SwarmLink) -> None:
+        update = link.poll()
+        for state in update.states:
+            old = self.states.get(state.sender_id)
+            if old is None or state.seq > old.seq:
+                self.states[state.sender_id] = state
+            if state.encircle_complete and self.recorder.encircle_time_s is None and self.phase == "mission":
+                self.recorder.encircle_time_s = self._flood_t_s()
+                self.events(f"encircling complete (reported by vehicle {state.sender_id}) at flood time "
+                            f"{self.recorder.encircle_time_s:.1f} s")
+        for vid in update.alive:
+            if vid in self.agent_alive and not self.agent_alive[vid]:
+                self.agent_alive[vid] = True
+        for vid in update.dead:
+            if self.agent_alive.get(vid):
+                self.agent_alive[vid] = False
+                self.events(f"agent {vid} lost: its liveliness token is gone")
+                self._mark_lost(vid)
+
+    def _check_children(self) -> None:
+        for name, child in self.services.items():
+            code = child.exit_code()
+            if code is not None:
+                raise MissionFailed(f"{name} process exited with code {code}: {child.log_tail()}")
+        for vid, child in self.agents.items():
+            code = child.exit_code()
+            if code is None or vid in self._exited_agents:
+                continue
+            self._exited_agents.add(vid)
+            if self.phase == "starting":
+                raise MissionFailed(f"agent {vid} failed to start (exit code {code}): {child.log_tail()}")
+            self.events(f"agent {vid} exited with code {code}")
+            self._mark_lost(vid)
+
+    def _check_vehicles(self, watcher: MavlinkWatcher, now_wall_s: float) -> None:
+        if self.phase not in ("takeoff", "mission"):
+            return
+        for vid in self.vehicle_ids:
+            watch = watcher.vehicles.get(vid)
+            if watch is not None and watch.heartbeat_age_s(now_wall_s) > VEHICLE_LOST_AFTER_S and vid not in self.lost:
+                self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {VEHICLE_LOST_AFTER_S:g} s")
+                self._mark_lost(vid)
+
+    def _mark_lost(self, vid: int) -> None:
+        if vid not in self.lost:
+            self.lost[vid] = self._flood_t_s()
+
+    def _everyone_up(self, watcher: MavlinkWatcher) -> bool:
+        heard = all(vid in watcher.vehicles and watcher.vehicles[vid].last_heartbeat_monotonic_s for vid in self.vehicle_ids)
+        return heard and all(self.agent_alive.values()) and self.truth is not None
+
+    def _everyone_in_offboard(self, watcher: MavlinkWatcher) -> bool:
+        floor_m = _AIRBORNE_FRACTION * self.scenario.altitude_m
+        for vid in self.vehicle_ids:
+            if vid in self.lost:
+                continue
+            watch = watcher.vehicles.get(vid)
+            if watch is None or watch.mode != "OFFBOARD" or not watch.armed or not watch.altitude_m >= floor_m:
+                return False
+        return True
+
+    def _startup_problem(self, watcher: MavlinkWatcher) -> str:
+        silent = [vid for vid in self.vehicle_ids if vid not in watcher.vehicles]
+        no_agent = [vid for vid, up in self.agent_alive.items() if not up]
+        parts = []
+        if silent:
+            parts.append(f"no MAVLink from vehicles {silent} on GCS port {self.options.gcs_port}: "
+                         f"{self.services['sim'].log_tail(2)}")
+        if no_agent:
+            parts.append(f"agents {no_agent} did not join Zenoh: {self.agents[no_agent[0]].log_tail(2)}")
+        if self.truth is None:
+            parts.append("no ground truth from the simulator bridge")
+        return f"start-up timed out after {self.options.startup_timeout_s:g} s: " + "; ".join(parts)
+
+    def _takeoff_problem(self, watcher: MavlinkWatcher) -> str:
+        late = [f"{vid} ({w.mode}, {'armed' if w.armed else 'disarmed'}, {w.altitude_m:.1f} m)"
+                for vid, w in sorted(watcher.vehicles.items())
+                if vid not in self.lost and (w.mode != "OFFBOARD" or not w.armed)]
+        return f"vehicles not airborne in OFFBOARD after {self.options.takeoff_timeout_s:g} s: {', '.join(late[:6])}"
+
+    # ------------------------------------------------------------------ recording and the polygon
+    def _record(self, watcher: MavlinkWatcher) -> None:
+        truth = self.truth
+        if truth is None or truth.t_s < (self.flood_clock_start_s or 0.0):
+            return
+        index = {vid: i for i, vid in enumerate(truth.vehicle_ids)}
+        n = len(self.vehicle_ids)
+        positions = np.full((n, 3), np.nan)
+        velocities = np.zeros((n, 3))
+        alive = np.zeros(n, dtype=bool)
+        for row, vid in enumerate(self.vehicle_ids):
+            i = index.get(vid)
+            if i is None:
+                continue
+            positions[row] = truth.positions_enu_m[i]
+            if truth.velocities_enu_mps:
+                velocities[row] = truth.velocities_enu_mps[i]
+            alive[row] = (not truth.alive or truth.alive[i]) and vid not in self.lost
+        sides = 2.0 * np.clip(positions[:, 2], 0.0, None) * math.tan(math.radians(self.scenario.camera.fov_deg) / 2.0)
+        sides = np.where(alive & np.isfinite(sides), sides, 0.0)
+        self.recorder.add(truth.t_s - (self.flood_clock_start_s or 0.0), positions, velocities, sides, alive)
+
+    def _polygon(self, hub: ZenohSession, flood_t_s: float) -> None:
+        leader = self.states.get(self.leader_id) if self.leader_id is not None else None
+        offset = georeference_offset_en_m(leader, self.scenario.home)
+        max_age_s = 3.0 / self.scenario.control_rate_hz + 1.0
+        ring = aggregate_polygon(self.states, self.ring_order, offset, self.mission_t_s, max_age_s)
+        truth_ring = self.flood.boundary_en_m(flood_t_s)
+        if len(ring) >= 3:
+            self.recorder.polygons.append(PolygonSample(t_s=flood_t_s, ring_en_m=ring))
+            self.polygon_iou = polygon_iou(ring, truth_ring)
+            try:
+                feature = flood_polygon_from_enu(
+                    ring, self.scenario.home, mission=self.mission, t_s=flood_t_s,
+                    growth_rate_m2_per_s=polygon_growth_rate_m2ps(self.recorder.polygons),
+                    vehicle_ids=[vid for vid in self.ring_order if vid in self.states and vid not in self.lost],
+                    utc_iso=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+                )
+                hub.put(self.keys.polygon, encode(feature))
+                self.polygon_area_m2 = feature.properties.area_m2
+            except ValueError:
+                pass
+        if len(self.recorder):
+            rec_pos = np.array(self.recorder._pos[-1])  # newest row
+            sides = np.array(self.recorder._foot[-1])
+            water = np.asarray(self.flood.is_water(self._grid.centres_en_m(), flood_t_s), dtype=bool)
+            self.coverage = footprint_coverage(self._grid, water, rec_pos[:, :2], sides).coverage
+
+    # ------------------------------------------------------------------ view and outputs
+    def _snapshot(self, watcher: MavlinkWatcher, now_wall_s: float) -> MissionSnapshot:
+        rows = []
+        for vid in self.vehicle_ids:
+            watch = watcher.vehicles.get(vid)
+            state = self.states.get(vid)
+            rows.append(VehicleRow(
+                vehicle_id=vid, role=self.roles[vid], group=self.groups[vid],
+                mode=watch.mode if watch else "-", armed=bool(watch and watch.armed),
+                altitude_m=watch.altitude_m if watch else math.nan,
+                heartbeat_age_s=watch.heartbeat_age_s(now_wall_s) if watch else math.inf,
+                agent_alive=self.agent_alive.get(vid, False),
+                state_age_s=self.mission_t_s - state.t_s if state else math.inf,
+                battery_fraction=watch.battery_fraction if watch else math.nan,
+                sees_edge=bool(state and state.has(FLAG_SEES_EDGE)),
+            ))
+        boundary = [vid for vid in self.vehicle_ids if self.roles[vid] == "boundary"]
+        encircled = sum(1 for vid in boundary if vid in self.states and self.states[vid].encircle_complete)
+        return MissionSnapshot(
+            scenario=self.scenario.name, mode=self.options.mode, phase=self.phase, mission_t_s=self.mission_t_s,
+            flood_t_s=None if self.flood_clock_start_s is None else self._flood_t_s(), duration_s=self.duration_s,
+            speed=self.options.speed, vehicles=tuple(rows), encircled=encircled, boundary_count=len(boundary),
+            encircle_time_s=self.recorder.encircle_time_s, polygon_iou=self.polygon_iou, coverage=self.coverage,
+            polygon_area_m2=self.polygon_area_m2, events=tuple(self.events.recent),
+        )
+
+    def _report_exits(self) -> None:
+        for child in self.supervisor.children:
+            code = child.exit_code()
+            if code not in (0, None, -signal.SIGTERM) and child.name not in {f"agent_{v}" for v in self._exited_agents}:
+                self.events(f"{child.name} ended with code {code}")
+
+    def _finish(self, code: int) -> None:
+        self.recorder.events = list(self.events.entries)
+        if len(self.recorder):
+            self.recorder.save_snapshot(self.out_dir / "record.npz")
+        if len(self.recorder) < 2:
+            self.console.print(f"no flight recorded; events and logs are in {self.out_dir}")
+            return
+        from gcs.report import write_mission_outputs
+
+        try:
+            write_mission_outputs(self.recorder.record(), self.flood, self.scenario.name, self.scenario.home,
+                                  self.out_dir, self.scenario.camera.fov_deg)
+        except Exception as exc:  # noqa: BLE001 - the report must not hide the mission's own exit code
+            self.console.print(f"[red]writing the report failed:[/] {exc}")
+            print(f"gcs.processes: writing the report failed: {exc!r}", file=sys.stderr)
+            return
+        self._print_summary(code)
+
+    def _print_summary(self, code: int) -> None:
+        metrics_path = self.out_dir / "metrics.json"
+        if not metrics_path.exists():
+            return
+        try:
+            metrics = json.loads(metrics_path.read_text())
+        except (OSError, ValueError):
+            return
+        summary = metrics.get("summary", metrics)
+        keys = [k for k in ("encircle_time_s", "polygon_iou_final", "coverage_final", "spacing_cv_final",
+                            "min_pair_distance_m", "near_miss_pairs") if k in summary]
+        shown = ", ".join(f"{k}={summary[k]:.3f}" if isinstance(summary[k], float) else f"{k}={summary[k]}" for k in keys)
+        verdict = "complete" if code == EXIT_OK else "INCOMPLETE"
+        self.console.print(f"mission {verdict}: {shown}; outputs in {self.out_dir}")
+
+
+def _flood_box(flood, duration_s: float) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
+    """A box holding the flood over the whole run, for the live coverage grid."""
+    rings = [np.asarray(flood.boundary_en_m(t), dtype=float) for t in np.linspace(0.0, duration_s, 5)]
+    points = np.concatenate(rings)
+    return points.min(axis=0) - 2.0, points.max(axis=0) + 2.0
