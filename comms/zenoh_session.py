@@ -10,8 +10,9 @@ Topologies (``ZenohConfig``):
   mode, not a home-made broker), routers connected to each other, and every process a **client** of its host's
   router. The same mode suits hundreds of processes on one host (a star instead of an N² mesh).
 
-Callback discipline: Zenoh callbacks run on Zenoh's threads. Ours copy the payload into a ``LatestValueBuffer``
-and return; they never block, never call Zenoh, and never raise (errors are counted in ``callback_errors``).
+Callback discipline: our callbacks run directly on Zenoh's threads (no extra Python thread per subscriber). They
+copy the payload into a ``LatestValueBuffer`` and return; they never block, never call Zenoh, and never raise
+(errors are counted in ``callback_errors``).
 Open sessions only after any ``fork``. ``close`` undeclares everything and closes the session; an ``atexit`` hook
 closes sessions a caller forgot, so the interpreter never hangs at exit.
 """
@@ -96,6 +97,16 @@ class ZenohConfig:
         return items
 
 
+def _direct(callback: Callable[[zenoh.Sample], None]) -> Any:
+    """Run our (tiny, non-blocking) callback on Zenoh's own thread.
+
+    zenoh-python's default wraps a Python callable in a dedicated non-daemon Python thread per subscriber; such a
+    thread keeps the interpreter from exiting while the subscriber is declared (a process that forgets ``close``
+    hangs at exit) and adds a thread hop of latency. Our callbacks only fill a buffer, so direct is safe.
+    """
+    return zenoh.handlers.Callback(callback, indirect=False)
+
+
 _open_sessions: "weakref.WeakSet[ZenohSession]" = weakref.WeakSet()
 
 
@@ -175,7 +186,7 @@ class ZenohSession:
             except Exception:
                 self.callback_errors += 1
 
-        self._declare(lambda: self._session.declare_subscriber(key_expr, on_sample))
+        self._declare(lambda: self._session.declare_subscriber(key_expr, _direct(on_sample)))
         return buf
 
     # ---- liveliness
@@ -197,7 +208,7 @@ class ZenohSession:
             except Exception:
                 self.callback_errors += 1
 
-        self._declare(lambda: self._session.liveliness().declare_subscriber(key_expr, on_change, history=history))
+        self._declare(lambda: self._session.liveliness().declare_subscriber(key_expr, _direct(on_change), history=history))
         return buf
 
     def alive_now(self, key_expr: str, timeout_s: float = 1.0) -> list[str]:

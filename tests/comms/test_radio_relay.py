@@ -1,0 +1,86 @@
+"""RadioRelay (the emulator's logic without Zenoh): truth-based gating, rejection, delays, link counters."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from comms.messages import DecodeStats, GroundTruth, NeighbourState, encode
+from comms.radio_emulator import RadioRelay
+from comms.radio_model import RadioModel
+
+
+def _truth(positions: list[tuple[float, float, float]], alive: list[bool] | None = None, t_s: float = 0.0) -> GroundTruth:
+    return GroundTruth(t_s=t_s, vehicle_ids=list(range(len(positions))), positions_enu_m=positions, alive=alive or [])
+
+
+def _state(vid: int, seq: int, claimed: tuple[float, float] = (0.0, 0.0)) -> bytes:
+    return encode(NeighbourState(sender_id=vid, role="boundary", seq=seq, t_s=0.0, position_en_m=claimed, altitude_m=10.0))
+
+
+def test_gating_uses_truth_not_claimed_positions() -> None:
+    relay = RadioRelay(RadioModel(25.0))
+    relay.on_truth(_truth([(0, 0, 10), (20, 0, 10), (60, 0, 10)]))
+    relay.on_state(2, _state(2, 1, claimed=(1.0, 0.0)), now_s=0.0)  # lies: claims to be next to 0
+    relay.on_state(0, _state(0, 1, claimed=(500.0, 0.0)), now_s=0.0)  # lies: claims to be far away
+    due = relay.pop_due(0.0)
+    assert {r: [s for s, _ in v] for r, v in due.items()} == {1: [0]}
+    assert relay.counters.out_of_range == 1 + 2
+
+
+def test_spoofed_undecodable_old_and_unknown_are_dropped() -> None:
+    relay = RadioRelay(RadioModel(25.0), stats=DecodeStats())
+    assert relay.on_state(0, _state(0, 1), 0.0) is None and relay.counters.no_truth == 1
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)]))
+    relay.on_state(1, _state(0, 2), 0.0)  # key says 1, message says 0
+    relay.on_state(0, b"\x93garbage", 0.0)
+    assert relay.counters.rejected == 2
+    relay.on_state(0, _state(0, 5), 0.0)
+    relay.on_state(0, _state(0, 5), 0.0)
+    relay.on_state(0, _state(0, 4), 0.0)
+    assert relay.counters.ignored_old == 2
+    relay.on_state(7, _state(7, 1), 0.0)
+    assert relay.counters.no_truth == 2
+    assert sum(len(v) for v in relay.pop_due(0.0).values()) == 1
+
+
+def test_dead_vehicles_neither_send_nor_receive() -> None:
+    relay = RadioRelay(RadioModel(25.0))
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10), (2, 0, 10)], alive=[True, False, True]))
+    relay.on_state(0, _state(0, 1), 0.0)
+    relay.on_state(1, _state(1, 1), 0.0)
+    assert {r: [s for s, _ in v] for r, v in relay.pop_due(0.0).items()} == {2: [0]}
+    assert relay.counters.no_truth == 1
+
+
+def test_delays_follow_the_model_scaled_by_speed() -> None:
+    model = RadioModel(25.0, loss_probability=0.0, latency_s=0.1, jitter_s=0.05, seed=3)
+    relay = RadioRelay(model, speed=2.0)
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10), (2, 0, 10)]))
+    relay.on_state(0, _state(0, 9), now_s=10.0)
+    _, expected = model.link_fate(0, np.array([1, 2]), 9, 0.0)
+    assert relay.pop_due(10.0 + 0.1 / 2 - 1e-6) == {}
+    assert relay.next_due_s() == min(10.0 + expected / 2.0)
+    got = relay.pop_due(10.0 + 0.15 / 2)
+    assert sorted(got) == [1, 2]
+
+
+def test_link_counters_match_the_model() -> None:
+    model = RadioModel(100.0, loss_probability=0.4, seed=8)
+    relay = RadioRelay(model)
+    relay.on_truth(_truth([(0, 0, 10), (5, 0, 10), (10, 0, 10)]))
+    for seq in range(300):
+        relay.on_state(0, _state(0, seq), 0.0)
+    stats = relay.link_stats(0.0)
+    links = {(s, r): (d, lost) for s, r, d, lost in stats.links}
+    for r in (1, 2):
+        delivered, _ = model.link_fate(0, r, np.arange(300), 0.0)
+        assert links[(0, r)] == (int(delivered.sum()), 300 - int(delivered.sum()))
+    assert stats.delivered + stats.lost == 600 and abs(stats.lost / 600 - 0.4) < 0.06
+
+
+def test_newer_truth_wins_older_is_ignored() -> None:
+    relay = RadioRelay(RadioModel(25.0))
+    relay.on_truth(_truth([(0, 0, 10), (100, 0, 10)], t_s=2.0))
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)], t_s=1.0))
+    relay.on_state(0, _state(0, 1), 0.0)
+    assert relay.pop_due(0.0) == {}

@@ -1,0 +1,195 @@
+"""Real Zenoh sessions on loopback: several sessions exchange, bad payloads are dropped and counted,
+liveliness follows sessions, and closing leaves no thread and no hang."""
+
+from __future__ import annotations
+
+import asyncio
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Callable
+
+import pytest
+
+from comms.keys import MissionKeys
+from comms.latest_buffer import LatestValueBuffer
+from comms.messages import DecodeStats, NeighbourState, encode
+from comms.swarm_link import SwarmLink
+from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
+
+pytestmark = pytest.mark.integration
+
+
+def _state(vid: int, seq: int) -> NeighbourState:
+    return NeighbourState(sender_id=vid, role="follower", seq=seq, t_s=seq * 0.05, position_en_m=(float(vid), 0.0), altitude_m=10.0)
+
+
+def _until(predicate: Callable[[], bool], timeout_s: float = 10.0) -> bool:
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.02)
+    return False
+
+
+def test_several_member_peers_and_a_client_hear_each_other(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs1")
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        members = [ZenohSession(ZenohConfig.member(hub_ep)) for _ in range(3)]
+        client = ZenohSession(ZenohConfig.client(hub_ep))
+        try:
+            buffers = [m.subscribe(keys.all_states) for m in members] + [client.subscribe(keys.all_states)]
+            time.sleep(0.5)
+            seen: list[set[str]] = [set() for _ in buffers]
+
+            def all_heard() -> bool:
+                for i, m in enumerate(members):
+                    m.put(keys.state(i), encode(_state(i, 1)))
+                client.put(keys.state(9), encode(_state(9, 1)))
+                for s, b in zip(seen, buffers):
+                    s.update(r.key for r in b.drain())
+                return all(len(s) == 4 for s in seen)
+
+            assert _until(all_heard), seen
+        finally:
+            for s in (*members, client):
+                s.close()
+
+
+def test_bad_payloads_on_public_and_inbox_keys_are_dropped_and_counted(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs2")
+    stats = DecodeStats()
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as agent_session:
+        direct = SwarmLink(hub, keys, None, via_radio=False, participant="gcs", stats=stats)
+        radio = SwarmLink(agent_session, keys, 1, via_radio=True, stats=stats)
+        time.sleep(0.5)
+        for payload in (b"", b"\xff" * 50, encode(_state(3, 1))[:-4], b"\x00" * 20_000):
+            agent_session.put(keys.state(3), payload)
+            time.sleep(0.05)
+            direct.poll()
+        agent_session.put(keys.state(4), encode(_state(5, 1)))  # claims to be 5 on 4's key
+        hub.put(keys.inbox(1), b"not a bundle")
+        time.sleep(0.3)
+        direct.poll()
+        radio.poll()
+        assert stats.dropped_total() == 4
+        assert stats.dropped_total("oversized") == 1 and stats.dropped_total("truncated") == 2  # empty + cut short
+        assert direct.rejected_spoofed == 1
+        assert agent_session.callback_errors == 1
+        # still working afterwards
+        agent_session.put(keys.state(3), encode(_state(3, 2)))
+        got: list[NeighbourState] = []
+        assert _until(lambda: bool(got.extend(direct.poll().states) or got))
+        assert got[0].seq == 2
+
+
+def test_liveliness_follows_sessions(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs3")
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        gcs = SwarmLink(hub, keys, None, via_radio=False)
+        agents = [ZenohSession(ZenohConfig.member(hub_ep)) for _ in range(2)]
+        for i, s in enumerate(agents):
+            s.declare_alive(keys.alive(i))
+        alive: set[int] = set()
+        assert _until(lambda: bool(alive.update(gcs.poll().alive)) or alive == {0, 1})
+        assert hub.alive_now(keys.all_alive) == [keys.alive(0), keys.alive(1)]
+        agents[1].close()
+        dead: list[int] = []
+        assert _until(lambda: bool(dead.extend(gcs.poll().dead)) or dead == [1], 5.0)
+        agents[0].close()
+
+
+def test_asyncio_consumer(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs4")
+
+    async def consume(link: SwarmLink) -> list[int]:
+        got: list[int] = []
+        deadline = time.monotonic() + 10
+        while len(got) < 5 and time.monotonic() < deadline:
+            await link.wait_async(0.5)
+            got.extend(s.seq for s in link.poll().states)
+        return got
+
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as sender:
+        link = SwarmLink(hub, keys, 0, via_radio=False)
+        time.sleep(0.5)
+
+        def produce() -> None:
+            for seq in range(50):
+                sender.put(keys.state(1), encode(_state(1, seq)))
+                time.sleep(0.02)
+
+        thread = threading.Thread(target=produce)
+        thread.start()
+        got = asyncio.run(consume(link))
+        thread.join()
+        assert len(got) >= 5 and got == sorted(got)
+
+
+def test_close_leaves_no_python_thread_and_is_idempotent(free_endpoint: Callable[[], str]) -> None:
+    before = set(threading.enumerate())
+    hub_ep = free_endpoint()
+    s1 = ZenohSession(ZenohConfig.hub(hub_ep))
+    s2 = ZenohSession(ZenohConfig.member(hub_ep))
+    s1.subscribe("floodwatch/x/**")
+    s2.declare_alive("floodwatch/x/alive/1")
+    s2.put("floodwatch/x/a", b"1")
+    s1.close()
+    s2.close()
+    s2.close()
+    assert s1.closed and s2.closed
+    assert set(threading.enumerate()) <= before
+    with pytest.raises(RuntimeError):
+        s1.subscribe("floodwatch/x/**")
+
+
+def test_process_that_forgets_to_close_exits_promptly(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    code = (
+        "from comms.zenoh_session import ZenohSession, ZenohConfig\n"
+        f"s = ZenohSession(ZenohConfig.hub('{hub_ep}'))\n"
+        "b = s.subscribe('floodwatch/**')\n"
+        "s.declare_alive('floodwatch/t/alive/1')\n"
+        "s.put('floodwatch/t/x', b'1')\n"
+        "print('done', flush=True)\n"
+    )
+    t0 = time.monotonic()
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=str(__import__("pathlib").Path(__file__).resolve().parents[2]))
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "done"
+    assert time.monotonic() - t0 < 30
+
+
+def test_bad_configs_fail_with_one_clear_error(free_endpoint: Callable[[], str]) -> None:
+    with pytest.raises(ValueError, match="endpoint"):
+        ZenohConfig(connect=("localhost:7447",))
+    with pytest.raises(ValueError, match="client"):
+        ZenohConfig(mode="client")
+    hub_ep = free_endpoint()
+    with ZenohSession(ZenohConfig.hub(hub_ep)):
+        with pytest.raises(ZenohOpenError):
+            ZenohSession(ZenohConfig.hub(hub_ep))  # port already taken
+
+
+def test_buffer_shared_by_two_subscribers(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as other:
+        buf = LatestValueBuffer()
+        hub.subscribe("floodwatch/a/**", buf)
+        hub.subscribe("floodwatch/b/**", buf)
+        time.sleep(0.5)
+        keys: set[str] = set()
+
+        def both() -> bool:
+            other.put("floodwatch/a/x", b"1")
+            other.put("floodwatch/b/y", b"2")
+            keys.update(r.key for r in buf.drain())
+            return keys == {"floodwatch/a/x", "floodwatch/b/y"}
+
+        assert _until(both)
