@@ -106,3 +106,13 @@ def yaw_ned_to_enu_rad(yaw_ned_rad: float) -> float:
 def yaw_enu_to_ned_rad(heading_enu_rad: float) -> float:
     """ENU heading (counter-clockwise from east) -> PX4 yaw (clockwise from north), both in radians."""
     return math.atan2(math.cos(heading_enu_rad), math.sin(heading_enu_rad))
+
+
+def body_frd_to_ned(vector_frd: ArrayLike, yaw_ned_rad: float) -> NDArray[np.float64]:
+    """Rotate a body-frame (forward, right, down) vector into NED by the vehicle's yaw (level flight).
+
+    Used for MAVLink's MAV_FRAME_BODY_NED setpoints, which PX4 rotates by the current heading only.
+    """
+    v = np.asarray(vector_frd, dtype=float)
+    c, s = math.cos(yaw_ned_rad), math.sin(yaw_ned_rad)
+    return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1], v[..., 2]], axis=-1)

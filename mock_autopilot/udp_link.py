@@ -1,0 +1,103 @@
+"""The only module of the mock autopilot that touches sockets: one asyncio UDP endpoint per vehicle link.
+
+A link starts by sending to its configured remote (PX4 SITL: 127.0.0.1:14540+i for the onboard/API link,
+127.0.0.1:14550 for the GCS link) and afterwards replies to whatever address the peer used, but only once a
+datagram from that address *vouched* for it (see :mod:`mock_autopilot.mavlink_codec`): garbage or frames that fail
+any check never move the peer. Fault injection (drop, delay) sits here because it is about the wire.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections import Counter
+from typing import Callable
+
+from mock_autopilot.clock import SimClock
+from mock_autopilot.mavlink_codec import LinkCodec
+from pymavlink.dialects.v20 import common as mavlink
+
+log = logging.getLogger(__name__)
+
+Address = tuple[str, int]
+MessageSink = Callable[[str, mavlink.MAVLink_message], None]
+
+
+class UdpLink(asyncio.DatagramProtocol):
+    """One vehicle's link: datagrams in -> codec -> ``on_message``; ``send`` -> codec -> datagrams out."""
+
+    def __init__(self, name: str, codec: LinkCodec, remote: Address, clock: SimClock, on_message: MessageSink) -> None:
+        self.name = name
+        self.codec = codec
+        self.peer: Address = remote
+        self.clock = clock
+        self._on_message = on_message
+        self._transport: asyncio.DatagramTransport | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self.dropped_by_fault = False
+        self.delay_s = 0.0
+        self.fault_drops: Counter[str] = Counter()
+        self.sent_datagrams = 0
+        self.send_errors = 0
+        self.peer_changes = 0
+
+    @property
+    def local_address(self) -> Address:
+        """The (host, port) this link is bound to."""
+        assert self._transport is not None
+        host, port = self._transport.get_extra_info("sockname")[:2]
+        return host, port
+
+    async def open(self, local: Address) -> None:
+        """Bind the socket (raises OSError when the port is taken)."""
+        self._loop = asyncio.get_running_loop()
+        await self._loop.create_datagram_endpoint(lambda: self, local_addr=local)
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        self._transport = transport  # type: ignore[assignment]
+
+    def close(self) -> None:
+        if self._transport is not None:
+            self._transport.close()
+
+    def error_received(self, exc: Exception) -> None:
+        # ICMP port unreachable when nobody listens yet: normal for UDP telemetry, count it and carry on.
+        self.send_errors += 1
+
+    def datagram_received(self, data: bytes, addr: tuple) -> None:  # type: ignore[override]
+        if self.dropped_by_fault:
+            self.fault_drops["inbound"] += 1
+            return
+        if self.delay_s > 0.0 and self._loop is not None:
+            self._loop.call_later(self.clock.wall_delay_s(self.delay_s), self._process, data, addr)
+            return
+        self._process(data, addr)
+
+    def _process(self, data: bytes, addr: tuple) -> None:
+        parsed = self.codec.parse_datagram(data, self.clock.unix_time_s())
+        source: Address = (addr[0], addr[1])
+        if parsed.vouched and source != self.peer:
+            log.info("link %s of system %d: peer %s:%d -> %s:%d", self.name, self.codec.system_id, *self.peer, *source)
+            self.peer = source
+            self.peer_changes += 1
+        for message in parsed.messages:
+            self._on_message(self.name, message)
+
+    def send(self, message: mavlink.MAVLink_message) -> None:
+        """Encode and send one message to the current peer (subject to drop/delay faults)."""
+        if self._transport is None or self._transport.is_closing():
+            return
+        if self.dropped_by_fault:
+            self.fault_drops["outbound"] += 1
+            return
+        data = self.codec.encode(message, self.clock.unix_time_s())
+        if self.delay_s > 0.0 and self._loop is not None:
+            self._loop.call_later(self.clock.wall_delay_s(self.delay_s), self._sendto, data, self.peer)
+            return
+        self._sendto(data, self.peer)
+
+    def _sendto(self, data: bytes, peer: Address) -> None:
+        if self._transport is None or self._transport.is_closing():
+            return
+        self._transport.sendto(data, peer)
+        self.sent_datagrams += 1
