@@ -8,7 +8,8 @@ layer, the launch site and pad spacing), the camera (``[camera]``), the radio (`
 Pads (SPEC §4): all vehicles start from one launch site, pads ``pad_spacing_m`` apart. The boundary drones stand in
 a column along the edge tangent through the launch point, group A on the counter-clockwise side (rank 0 furthest,
 it leads), group B on the clockwise side; the leader and the followers stand in columns behind them, away from
-the flood. Any error raises :class:`ScenarioError` whose one-line message names the field.
+the flood. ``launch_en_m = "auto"`` puts the launch site just outside the initial edge (see :func:`auto_launch`).
+Any error raises :class:`ScenarioError` whose one-line message names the field.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from typing import Any, Mapping, Sequence
 
 from comms.frames import GeodeticHome
 from mock_autopilot.kinematics import KinematicLimits
+from mock_autopilot.world.config import flood_model_from_config
 from vehicle_agents.control.params import ControlParams, ControlParamsError, RosterEntry, params_for_mode
 from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER
 
@@ -166,6 +168,37 @@ def _pair(table: Mapping[str, Any], key: str, default: tuple[float, float], wher
     return float(value[0]), float(value[1])
 
 
+def auto_launch(fleet: Mapping[str, Any], flood_table: Mapping[str, Any], seed: int, source_dir: Path) -> dict[str, Any]:
+    """``launch_en_m = "auto"``: the launch site just outside the flood's edge at t = 0, along ``launch_bearing_deg``.
+
+    Takes the initial boundary point furthest along the bearing (counter-clockwise from east) from the flood's
+    centroid and steps ``launch_clearance_m`` (default 2 m, as in `circle`: pads at 14 m for a 12 m flood)
+    further out. Returns the fleet table with ``launch_en_m`` and ``flood_center_en_m`` filled in.
+    """
+    try:
+        flood = flood_model_from_config(flood_table, seed=seed, base_dir=source_dir)
+    except ValueError as exc:
+        raise ScenarioError(str(exc)) from None
+    bearing = math.radians(_number(fleet, "launch_bearing_deg", 0.0, "fleet"))
+    clearance = _number(fleet, "launch_clearance_m", 2.0, "fleet", non_negative=True)
+    centre = flood.centroid_en_m(0.0)
+    ring = flood.boundary_en_m(0.0)
+    direction = (math.cos(bearing), math.sin(bearing))
+    rel = ring - centre
+    vertex = ring[int((rel[:, 0] * direction[0] + rel[:, 1] * direction[1]).argmax())]
+    out = vertex - centre
+    out_norm = max(math.hypot(out[0], out[1]), 1e-9)
+    launch = vertex + clearance * out / out_norm
+    table = dict(fleet)
+    table["launch_en_m"] = [float(launch[0]), float(launch[1])]
+    table["flood_center_en_m"] = [float(centre[0]), float(centre[1])]
+    return table
+
+
+_FLEET_KEYS = {"boundary_per_group", "leaders", "follower_layers", "pad_spacing_m", "launch_en_m", "flood_center_en_m",
+               "gps", "launch_bearing_deg", "launch_clearance_m"}
+
+
 def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
     """Vehicles and pads from a ``[fleet]`` table (see module doc); ids are 1-based in the order A, B, leaders, followers."""
     per_group = _integer(fleet, "boundary_per_group", 4, "fleet", minimum=1)
@@ -178,6 +211,8 @@ def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
     spacing = _number(fleet, "pad_spacing_m", 1.5, "fleet", positive=True)
     launch = _pair(fleet, "launch_en_m", (14.0, 0.0), "fleet")
     centre = _pair(fleet, "flood_center_en_m", (0.0, 0.0), "fleet")
+    for key in sorted(set(fleet) - _FLEET_KEYS):
+        raise ScenarioError(f"fleet.{key}: unknown parameter")
     gps = fleet.get("gps", "leader")
     if gps not in ("leader", "all", "none"):
         raise ScenarioError(f"fleet.gps: must be leader, all or none, got {gps!r}")
@@ -295,6 +330,9 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
     flood = _table(raw, "flood")
     if "model" not in flood:
         raise ScenarioError("flood.model: missing (circle, ellipse, nonconvex, drift or terrain)")
+    fleet = _table(raw, "fleet")
+    if fleet.get("launch_en_m") == "auto":
+        fleet = auto_launch(fleet, flood, seed, source_dir)
     scenario = Scenario(
         name=name,
         seed=seed,
@@ -302,7 +340,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         altitude_m=_number(raw, "altitude_m", 10.0, "scenario", positive=True),
         home=home,
         flood=flood,
-        vehicles=build_fleet(_table(raw, "fleet")),
+        vehicles=build_fleet(fleet),
         camera=camera,
         radio=radio,
         kinematics=limits,

@@ -1,0 +1,107 @@
+"""Argument parsing and dispatch for ``python -m gcs.mission`` (thin: every decision lives in the engines).
+
+Bad input (unknown scenario, bad ``--set``, out-of-range value) prints ONE line on stderr and exits with 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+from collections.abc import Sequence
+from datetime import datetime, timezone
+from pathlib import Path
+
+from gcs.mission.options import ENGINES, MissionOptions
+from gcs.scenario import Scenario, ScenarioError, load_scenario
+from vehicle_agents.control.params import MODES
+
+EXIT_USAGE = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        print(f"gcs.mission: {message}", file=sys.stderr)
+        raise SystemExit(EXIT_USAGE)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="python -m gcs.mission", description="Run a FloodWatch mission (SPEC §4-§6).")
+    parser.add_argument("scenario", help="bundled scenario name (circle, ellipse, ...) or path to a .toml file")
+    parser.add_argument("--engine", choices=ENGINES, default="processes", help="default: processes")
+    parser.add_argument("--mode", choices=MODES, default="paper", help="control laws: paper (default) or improved")
+    parser.add_argument("--seed", type=int, default=None, help="seed for the flood, camera noise and radio")
+    parser.add_argument("--duration", type=float, default=None, metavar="S", help="simulated seconds (default: scenario)")
+    parser.add_argument("--speed", type=float, default=1.0, metavar="S", help="simulation speed-up (processes engine)")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help="output folder (default runs/<timestamp>-<scenario>-<engine>-<mode>)")
+    parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                        help="override a scenario parameter, e.g. --set flood.radius_end_m=20 (repeatable)")
+    parser.add_argument("--base-port", type=int, default=14540, help="first vehicle's MAVLink API port (processes)")
+    parser.add_argument("--gcs-port", type=int, default=14550, help="ground station MAVLink port (processes)")
+    parser.add_argument("--no-live", dest="live", action="store_false", help="no live terminal view")
+    return parser
+
+
+def default_out_dir(scenario: str, engine: str, mode: str, now: datetime | None = None) -> Path:
+    """``runs/<UTC timestamp>-<scenario>-<engine>-<mode>``."""
+    stamp = (now or datetime.now(timezone.utc)).strftime("%Y%m%dT%H%M%SZ")
+    name = Path(scenario).stem if scenario.endswith(".toml") else scenario
+    return Path("runs") / f"{stamp}-{name}-{engine}-{mode}"
+
+
+def parse_options(argv: Sequence[str]) -> MissionOptions:
+    """Parse and check the flags (exit 2 with one line on bad values)."""
+    ns = build_parser().parse_args(list(argv))
+    if ns.duration is not None and not ns.duration > 0.0:
+        _fail(f"--duration: must be > 0, got {ns.duration:g}")
+    if not ns.speed > 0.0:
+        _fail(f"--speed: must be > 0, got {ns.speed:g}")
+    if ns.seed is not None and ns.seed < 0:
+        _fail(f"--seed: must be >= 0, got {ns.seed}")
+    for name in ("base_port", "gcs_port"):
+        if not 1 <= getattr(ns, name) <= 65535:
+            _fail(f"--{name.replace('_', '-')}: must be a port number, got {getattr(ns, name)}")
+    out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
+    return MissionOptions(
+        scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
+        out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
+    )
+
+
+def resolve_scenario(options: MissionOptions) -> Scenario:
+    """Load the scenario with ``--set`` overrides, then ``--seed`` and ``--duration``; raises ScenarioError."""
+    scenario = load_scenario(options.scenario, options.overrides)
+    changes: dict[str, object] = {}
+    if options.seed is not None:
+        changes["seed"] = options.seed
+    if options.duration_s is not None:
+        changes["duration_s"] = options.duration_s
+    return dataclasses.replace(scenario, **changes) if changes else scenario
+
+
+def _fail(message: str) -> None:
+    print(f"gcs.mission: {message}", file=sys.stderr)
+    raise SystemExit(EXIT_USAGE)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Parse, load the scenario, dispatch to the engine; returns the process exit code."""
+    options = parse_options(sys.argv[1:] if argv is None else argv)
+    try:
+        scenario = resolve_scenario(options)
+        if options.engine == "lockstep":
+            from gcs.lockstep.run import run_mission as run_lockstep_mission
+
+            return run_lockstep_mission(scenario, options)
+        from gcs.processes import run_mission
+
+        return run_mission(scenario, options)
+    except ScenarioError as exc:
+        print(f"gcs.mission: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("gcs.mission: interrupted", file=sys.stderr)
+        return 130

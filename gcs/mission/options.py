@@ -1,0 +1,30 @@
+"""The mission CLI's parsed flags as one frozen value, handed to whichever engine runs the mission."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+ENGINES = ("processes", "lockstep")
+
+
+@dataclass(frozen=True)
+class MissionOptions:
+    """Flags of ``python -m gcs.mission`` (issues 5 and 6).
+
+    ``seed`` and ``duration_s`` are already applied to the scenario the engine receives; they are kept here for
+    the record. ``speed`` is the simulation speed-up of the process engine (the lockstep engine runs as fast as it
+    can). ``out_dir`` is where every output goes (created by the engine).
+    """
+
+    scenario: str
+    engine: str = "processes"
+    mode: str = "paper"
+    seed: int | None = None
+    duration_s: float | None = None
+    speed: float = 1.0
+    out_dir: Path = Path("runs")
+    overrides: tuple[str, ...] = ()
+    base_port: int = 14540
+    gcs_port: int = 14550
+    live: bool = True

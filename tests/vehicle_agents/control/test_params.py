@@ -1,0 +1,32 @@
+import pytest
+
+from vehicle_agents.control.params import PAPER_PIXEL_GAINS, ControlParams, ControlParamsError, params_for_mode
+
+
+def test_modes_and_presets() -> None:
+    paper = params_for_mode("paper", {"encircle_speed_mps": 1.0}, ())
+    improved = params_for_mode("improved", {"encircle_speed_mps": 1.0, "improved": {"encircle_speed_mps": 3.0}}, ())
+    assert paper.encircle_speed_mps == 1.0 and improved.encircle_speed_mps == 3.0
+    assert improved.edge_point_tracking and not paper.edge_point_tracking
+    preset = params_for_mode("paper", {"gain_preset": "paper_pixels"}, ())
+    assert preset.k_boundary_per_s == PAPER_PIXEL_GAINS
+
+
+@pytest.mark.parametrize(
+    "table, field",
+    [
+        ({"separation_distance_m": -1.0}, "control.separation_distance_m"),
+        ({"no_such_gain": 1.0}, "control.no_such_gain"),
+        ({"pdot_reading": "sideways"}, "control.pdot_reading"),
+        ({"gain_preset": "kilometres"}, "control.gain_preset"),
+        ({"encircle_speed_mps": "fast"}, "control.encircle_speed_mps"),
+    ],
+)
+def test_bad_values_name_the_field(table: dict, field: str) -> None:
+    with pytest.raises(ControlParamsError, match=field):
+        params_for_mode("paper", table, ())
+
+
+def test_unknown_mode() -> None:
+    with pytest.raises(ControlParamsError, match="mode"):
+        ControlParams(mode="magic")
