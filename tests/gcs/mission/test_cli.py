@@ -1,0 +1,56 @@
+"""``python -m gcs.mission``: flags, one-line errors with exit code 2, and a real lockstep run writing outputs."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gcs.mission.cli import default_out_dir, main, parse_options
+
+REPO = Path(__file__).resolve().parents[3]
+
+
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["atlantis", "--engine", "lockstep"], "unknown scenario"),
+        (["circle", "--engine", "lockstep", "--set", "radio.range_m=-5"], "radio.range_m"),
+        (["circle", "--engine", "lockstep", "--set", "oops"], "key=value"),
+        (["circle", "--engine", "lockstep", "--duration", "-1"], "--duration"),
+        (["circle", "--engine", "lockstep", "--speed", "0"], "--speed"),
+        (["circle", "--mode", "magic"], "--mode"),
+        (["circle", "--engine", "warp"], "--engine"),
+        (["circle", "--seed", "x"], "--seed"),
+        (["circle", "--engine", "lockstep", "--set", "flood.radius_start_m=-3"], "flood.radius_start_m"),
+    ],
+)
+def test_bad_input_prints_one_line_and_exits_2(argv: list[str], needle: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as info:
+        sys.exit(main(argv))
+    assert info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert needle in err and len(err.splitlines()) == 1
+
+
+def test_options_and_default_out_dir() -> None:
+    opts = parse_options(["circle", "--engine", "lockstep", "--mode", "improved", "--seed", "7", "--duration", "5",
+                          "--set", "radio.loss=0.1", "--set", "flood.radius_end_m=18"])
+    assert opts.engine == "lockstep" and opts.mode == "improved" and opts.seed == 7 and opts.duration_s == 5.0
+    assert opts.overrides == ("radio.loss=0.1", "flood.radius_end_m=18")
+    assert parse_options(["circle"]).engine == "processes"
+    out = default_out_dir("circle", "lockstep", "paper")
+    assert out.parent == Path("runs") and out.name.endswith("-circle-lockstep-paper")
+
+
+def test_lockstep_run_writes_the_mission_outputs(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    proc = subprocess.run(
+        [sys.executable, "-m", "gcs.mission", "circle", "--engine", "lockstep", "--mode", "improved", "--seed", "2",
+         "--duration", "4", "--out", str(out)],
+        cwd=REPO, capture_output=True, text=True, timeout=240,
+    )
+    assert proc.returncode == 0, proc.stderr
+    for name in ("metrics.json", "polygons.geojson", "polygons.kml", "trajectories.png"):
+        assert (out / name).is_file() and (out / name).stat().st_size > 0, name
+    assert "outputs:" in proc.stdout
