@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import datetime as dt
+import os
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +17,10 @@ from gcs.processes.launch import ProcessOptions
 from gcs.scenario import Scenario
 
 __all__ = ["ProcessOptions", "run_mission", "run_processes", "process_options"]
+
+ZENOH_ENDPOINT_ENV = "FLOODWATCH_ZENOH_ENDPOINT"
+"""Where the mission's Zenoh hub listens when the mission CLI runs us (default tcp/127.0.0.1:7447); tests set it so
+they never clash with a user's running mission."""
 
 
 def default_out_dir(scenario_name: str) -> Path:
@@ -40,6 +45,9 @@ def process_options(scenario: Scenario, options: Any) -> ProcessOptions:
                 values[name] = value
                 break
     values.setdefault("scenario_arg", scenario.name)
+    env_endpoint = os.environ.get(ZENOH_ENDPOINT_ENV)
+    if env_endpoint and "zenoh_endpoint" not in values:
+        values["zenoh_endpoint"] = env_endpoint
     values["overrides"] = tuple(values.get("overrides", ()))
     if values.get("out_dir") is not None:
         values["out_dir"] = Path(values["out_dir"])

@@ -18,6 +18,7 @@ code; every path stops every child and writes what was recorded.
 from __future__ import annotations
 
 import asyncio
+import datetime as dt
 import json
 import math
 import signal
@@ -44,6 +45,8 @@ from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.processes.polygon_feed import aggregate_polygon, georeference_offset_en_m
 from gcs.processes.recorder import MissionRecorder
 from gcs.processes.supervisor import Child, Supervisor
+from gcs.report import write_mission_outputs
+from gcs.report.polygon_log import PolygonLog
 from gcs.scenario import Scenario
 from mock_autopilot.world.config import flood_model_from_config
 
@@ -95,6 +98,8 @@ class GroundStation:
         self.supervisor = Supervisor(out_dir)
         self.agents: dict[int, Child] = {}
         self.services: dict[str, Child] = {}
+        self.flood_start_utc: dt.datetime | None = None
+        self.polygon_log: PolygonLog | None = None
         self._interrupted = False
         self._exited_agents: set[int] = set()
         self._command_seq = 0
@@ -105,7 +110,10 @@ class GroundStation:
     async def run(self) -> int:
         loop = asyncio.get_running_loop()
         for sig in (signal.SIGINT, signal.SIGTERM):
-            loop.add_signal_handler(sig, self._interrupt)
+            try:
+                loop.add_signal_handler(sig, self.interrupt)
+            except (RuntimeError, ValueError):  # not the main thread (a test runs the mission in a thread)
+                break
         code = EXIT_FAILED
         hub: ZenohSession | None = None
         watcher: MavlinkWatcher | None = None
@@ -132,11 +140,14 @@ class GroundStation:
                 watcher.close()
             if hub is not None:
                 hub.close()
+            if self.polygon_log is not None:
+                self.polygon_log.close()
             self._finish(code)
             self.events.close()
         return code
 
-    def _interrupt(self) -> None:
+    def interrupt(self) -> None:
+        """Stop the mission as Ctrl-C does (thread-safe: the loop polls the flag)."""
         self._interrupted = True
 
     def _open_hub(self) -> ZenohSession:
@@ -201,6 +212,8 @@ class GroundStation:
                     if self._everyone_in_offboard(watcher):
                         self.phase = "mission"
                         self.flood_clock_start_s = self.mission_t_s
+                        self.flood_start_utc = dt.datetime.now(dt.timezone.utc)
+                        self.polygon_log = PolygonLog(self.out_dir, self.scenario.home, start_utc=self.flood_start_utc)
                         self.events(f"every vehicle airborne in OFFBOARD: flood clock starts, mission start")
                         next_command_s = 0.0
                     elif takeoff_deadline_s is not None and self.mission_t_s > takeoff_deadline_s:
@@ -358,6 +371,8 @@ class GroundStation:
         truth_ring = self.flood.boundary_en_m(flood_t_s)
         if len(ring) >= 3:
             self.recorder.polygons.append(PolygonSample(t_s=flood_t_s, ring_en_m=ring))
+            if self.polygon_log is not None:
+                self.polygon_log.append(flood_t_s, ring)
             self.polygon_iou = polygon_iou(ring, truth_ring)
             try:
                 feature = flood_polygon_from_enu(
@@ -415,11 +430,9 @@ class GroundStation:
         if len(self.recorder) < 2:
             self.console.print(f"no flight recorded; events and logs are in {self.out_dir}")
             return
-        from gcs.report import write_mission_outputs
-
         try:
             write_mission_outputs(self.recorder.record(), self.flood, self.scenario.name, self.scenario.home,
-                                  self.out_dir, self.scenario.camera.fov_deg)
+                                  self.out_dir, self.scenario.camera.fov_deg, start_utc=self.flood_start_utc)
         except Exception as exc:  # noqa: BLE001 - the report must not hide the mission's own exit code
             self.console.print(f"[red]writing the report failed:[/] {exc}")
             print(f"gcs.processes: writing the report failed: {exc!r}", file=sys.stderr)
@@ -436,7 +449,7 @@ class GroundStation:
             return
         summary = metrics.get("summary", metrics)
         keys = [k for k in ("encircle_time_s", "polygon_iou_final", "coverage_final", "spacing_cv_final",
-                            "min_pair_distance_m", "near_miss_pairs") if k in summary]
+                            "tracking_rms_last_10s_m", "min_pairwise_distance_m", "near_miss_pairs") if k in summary]
         shown = ", ".join(f"{k}={summary[k]:.3f}" if isinstance(summary[k], float) else f"{k}={summary[k]}" for k in keys)
         verdict = "complete" if code == EXIT_OK else "INCOMPLETE"
         self.console.print(f"mission {verdict}: {shown}; outputs in {self.out_dir}")

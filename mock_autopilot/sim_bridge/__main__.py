@@ -15,6 +15,8 @@ import sys
 import threading
 from collections.abc import Sequence
 
+import numpy as np
+
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
 from comms.zenoh_session import ZenohOpenError, ZenohSession
@@ -53,6 +55,17 @@ def vehicle_truths(truth: FleetTruth) -> list[VehicleTruth]:
                      float(truth.yaw_ned_rad[i]), bool(truth.alive[i]))
         for i in range(len(truth.system_ids))
     ]
+
+
+def setpoint_ages(fleet: Fleet, truth: FleetTruth, now_s: float) -> list[float]:
+    """Age [mission s] of the newest offboard setpoint each vehicle in OFFBOARD holds: what PX4's offboard
+    watchdog (COM_OF_LOSS_T) looks at. For the benchmark; read-only use of the vehicle's receive time."""
+    ages = []
+    for vehicle, mode in zip(fleet.vehicles, truth.modes):
+        received_s = getattr(vehicle, "_setpoint_t_s", None)
+        if mode == "OFFBOARD" and received_s is not None and np.isfinite(received_s):
+            ages.append(now_s - received_s)
+    return ages
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -113,12 +126,19 @@ def main(argv: Sequence[str] | None = None) -> int:
                                on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
             log.info("fleet of %d vehicles up (speed x%g), bridge publishing on floodwatch/%s",
                      len(scenario.vehicles), args.speed, mission)
+            setpoint_ages_s: list[float] = []
             while not stop.is_set():
                 now_s = fleet.clock.now_s()
-                bridge.tick(now_s, vehicle_truths(fleet.truth()))
+                truth = fleet.truth()
+                bridge.tick(now_s, vehicle_truths(truth))
+                setpoint_ages_s.extend(setpoint_ages(fleet, truth, now_s))
                 wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
                 stop.wait(min(wait_s, 0.05))
             log.info("bridge sent %d frames and %d truth samples", bridge.frames_sent, bridge.truths_sent)
+            if setpoint_ages_s:
+                p50, p99 = np.percentile(setpoint_ages_s, [50, 99])
+                log.info("setpoint age at the autopilot [mission s]: p50 %.4f p99 %.4f max %.4f (%d samples)",
+                         p50, p99, max(setpoint_ages_s), len(setpoint_ages_s))
     finally:
         fleet.stop()
     return 0

@@ -1,0 +1,179 @@
+"""Benchmark of the processes engine: does a whole mission hold its speed factor on this machine?
+
+For each speed factor it flies a mission (fleet + bridge, radio, one agent process per vehicle, ground station in
+this process) and reports, over the MISSION phase only:
+
+* achieved control rate per agent [Hz of mission time] (from each agent's exit line) and loop overruns;
+* setpoint age at the autopilot [mission s], p50/p99: how old the newest offboard setpoint each vehicle holds is,
+  sampled by the simulator (what PX4's COM_OF_LOSS_T watchdog looks at; MAVSDK re-sends at 20 Hz wall);
+* CPU [% of one core] and peak memory (RSS) per agent, of the fleet+bridge process, the radio and the GCS;
+* the mission's own metrics (IoU, coverage, encircle time, minimum distance) so a run that "holds" also works.
+
+Usage::
+
+    python bench/mission_processes.py --speeds 1,2,4 --duration 30
+    python bench/mission_processes.py --scenario circle --speeds 1 --sizes 4,6,8,10   # boundary drones per group
+
+Ports 27000-27999 are used so the benchmark never meets a running mission.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import os
+import re
+import statistics
+import sys
+import threading
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from gcs.processes import ProcessOptions  # noqa: E402
+from gcs.processes.ground_station import GroundStation  # noqa: E402
+from gcs.scenario import load_scenario  # noqa: E402
+
+_CLK_TCK = os.sysconf("SC_CLK_TCK")
+_RATE_RE = re.compile(r"(\d+) control steps \(([\d.]+|nan) Hz mission time\), (\d+) overruns")
+_AGE_RE = re.compile(r"setpoint age at the autopilot \[mission s\]: p50 ([\d.]+) p99 ([\d.]+) max ([\d.]+)")
+
+
+def cpu_seconds(pid: int) -> float | None:
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return (int(fields[11]) + int(fields[12])) / _CLK_TCK
+
+
+def rss_mb(pid: int) -> float | None:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        return None
+    return None
+
+
+def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, duration_s: float, out_dir: Path,
+             mode: str) -> dict[str, object]:
+    scenario = load_scenario(scenario_name, overrides)
+    options = ProcessOptions(scenario_arg=scenario_name, overrides=overrides, mode=mode, speed=speed,
+                             duration_s=duration_s, out_dir=out_dir, mission="bench", mavlink_base_port=27000,
+                             gcs_port=27900, zenoh_endpoint="tcp/127.0.0.1:27960", live=False,
+                             startup_timeout_s=180.0)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    station = GroundStation(scenario, options, out_dir)
+    result: dict[str, int] = {}
+    thread = threading.Thread(target=lambda: result.setdefault("code", asyncio.run(station.run())))
+    wall_start = time.monotonic()
+    thread.start()
+    start_cpu: dict[str, float] = {}
+    last_cpu: dict[str, float] = {}
+    peak_rss: dict[str, float] = {}
+    mission_wall = [0.0, 0.0]
+    gcs_pid = os.getpid()
+    while thread.is_alive():
+        time.sleep(0.25)
+        pids = {c.name: c.pid for c in station.supervisor.children}
+        pids["gcs"] = gcs_pid
+        if station.phase == "mission":
+            for name, pid in pids.items():
+                cpu = cpu_seconds(pid)
+                if cpu is None:
+                    continue
+                start_cpu.setdefault(name, cpu)
+                last_cpu[name] = cpu
+                peak_rss[name] = max(peak_rss.get(name, 0.0), rss_mb(pid) or 0.0)
+            if not mission_wall[0]:
+                mission_wall[0] = time.monotonic()
+            mission_wall[1] = time.monotonic()
+    thread.join()
+    wall_s = max(mission_wall[1] - mission_wall[0], 1e-9)
+    cpu_pct = {name: 100.0 * (last_cpu[name] - start_cpu[name]) / wall_s for name in last_cpu}
+    rates, overruns = [], []
+    for log in sorted(out_dir.glob("agent_*.log")):
+        match = _RATE_RE.search(log.read_text(errors="replace"))
+        if match and match.group(2) != "nan":
+            rates.append(float(match.group(2)))
+            overruns.append(int(match.group(3)))
+    age = _AGE_RE.search((out_dir / "sim.log").read_text(errors="replace")) if (out_dir / "sim.log").exists() else None
+    metrics_path = out_dir / "metrics.json"
+    summary = json.loads(metrics_path.read_text())["summary"] if metrics_path.exists() else {}
+    agent_cpu = [v for k, v in cpu_pct.items() if k.startswith("agent_")]
+    agent_rss = [v for k, v in peak_rss.items() if k.startswith("agent_")]
+    return {
+        "speed": speed,
+        "vehicles": len(scenario.vehicles),
+        "exit_code": result.get("code"),
+        "wall_s": time.monotonic() - wall_start,
+        "nominal_rate_hz": scenario.control_rate_hz,
+        "rate_min_hz": min(rates) if rates else float("nan"),
+        "rate_median_hz": statistics.median(rates) if rates else float("nan"),
+        "overruns_median": statistics.median(overruns) if overruns else float("nan"),
+        "setpoint_age_p50_s": float(age.group(1)) if age else float("nan"),
+        "setpoint_age_p99_s": float(age.group(2)) if age else float("nan"),
+        "agent_cpu_pct_median": statistics.median(agent_cpu) if agent_cpu else float("nan"),
+        "agent_cpu_pct_max": max(agent_cpu) if agent_cpu else float("nan"),
+        "agent_rss_mb_median": statistics.median(agent_rss) if agent_rss else float("nan"),
+        "sim_cpu_pct": cpu_pct.get("sim", float("nan")),
+        "sim_rss_mb": peak_rss.get("sim", float("nan")),
+        "radio_cpu_pct": cpu_pct.get("radio", float("nan")),
+        "gcs_cpu_pct": cpu_pct.get("gcs", float("nan")),
+        "total_cpu_pct": sum(cpu_pct.values()),
+        "polygon_iou_final": summary.get("polygon_iou_final"),
+        "coverage_final": summary.get("coverage_final"),
+        "encircle_time_s": summary.get("encircle_time_s"),
+        "min_pairwise_distance_m": summary.get("min_pairwise_distance_m"),
+    }
+
+
+def holds(row: dict[str, object]) -> bool:
+    """The mission held its speed: it completed and every agent ran at >= 90 % of the nominal control rate."""
+    return row["exit_code"] == 0 and float(row["rate_min_hz"]) >= 0.9 * float(row["nominal_rate_hz"])  # type: ignore[arg-type]
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--scenario", default="circle")
+    p.add_argument("--mode", default="improved")
+    p.add_argument("--speeds", default="1,2,4")
+    p.add_argument("--duration", type=float, default=30.0)
+    p.add_argument("--sizes", default="", help="boundary drones per group to try (fleet scaling, at the first speed)")
+    p.add_argument("--out", type=Path, default=Path("runs/bench-processes"))
+    args = p.parse_args()
+    rows = []
+    runs: list[tuple[float, tuple[str, ...]]] = [(float(s), ()) for s in args.speeds.split(",") if s]
+    for size in [int(s) for s in args.sizes.split(",") if s]:
+        followers = max(1, size)
+        runs.append((float(args.speeds.split(",")[0]), (f"fleet.boundary_per_group={size}",
+                                                          f"fleet.follower_layers=[{followers}]")))
+    for speed, overrides in runs:
+        tag = f"x{speed:g}" + ("-" + "-".join(o.split("=")[1] for o in overrides) if overrides else "")
+        row = run_once(args.scenario, overrides, speed, args.duration, args.out / tag, args.mode)
+        row["holds"] = holds(row)
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+    keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "setpoint_age_p50_s",
+            "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_rss_mb_median", "sim_cpu_pct", "sim_rss_mb",
+            "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",
+            "min_pairwise_distance_m"]
+    print("| " + " | ".join(keys) + " |")
+    print("|" + "---|" * len(keys))
+    for row in rows:
+        print("| " + " | ".join(_fmt(row.get(k)) for k in keys) + " |")
+    return 0
+
+
+def _fmt(value: object) -> str:
+    if isinstance(value, float):
+        return f"{value:.3g}"
+    return str(value)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,181 @@
+"""Whole missions with the processes engine over real loopback MAVLink and Zenoh: metrics, faults, bad input.
+
+Every test uses its own ports in 25000-29999 so it never clashes with a user's mission on 14540/14550/7447, and
+checks that no process outlives the run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import REPO, alive_pids, assert_no_orphans, pids_of_run
+
+from gcs.processes import ProcessOptions, run_processes
+from gcs.processes.ground_station import GroundStation
+from gcs.scenario import load_scenario
+
+pytestmark = [pytest.mark.integration, pytest.mark.e2e]
+
+CI_SPEED = 2.0
+"""A speed factor the 2-core CI machine holds with 13 agents, the fleet and the radio (docs/BENCHMARKS.md)."""
+
+
+def _options(out_dir: Path, base: int, **changes: object) -> ProcessOptions:
+    values: dict[str, object] = dict(
+        scenario_arg="circle", mode="improved", speed=CI_SPEED, duration_s=20.0, out_dir=out_dir,
+        mission=f"e2e{base}", mavlink_base_port=base, gcs_port=base + 50, zenoh_endpoint=f"tcp/127.0.0.1:{base + 60}",
+        live=False,
+    )
+    values.update(changes)
+    return ProcessOptions(**values)  # type: ignore[arg-type]
+
+
+def _mavlogdump_types(tlog: Path) -> set[str]:
+    """Message types in a .tlog as pymavlink's own mavlogdump.py prints them."""
+    out = subprocess.run([sys.executable, "-m", "pymavlink.tools.mavlogdump", "--types", "HEARTBEAT,LOCAL_POSITION_NED",
+                          str(tlog)], capture_output=True, text=True, timeout=120, check=True).stdout
+    return {line.split()[2] for line in out.splitlines() if len(line.split()) > 2}
+
+
+def test_circle_mission_over_processes_meets_targets(tmp_path: Path) -> None:
+    """13 agents, the fleet and the radio fly 20 s of the improved mission; the metrics say it worked."""
+    out = tmp_path / "run"
+    scenario = load_scenario("circle")
+    code = run_processes(scenario, _options(out, 25100))
+    assert code == 0, (out / "events.log").read_text()[-3000:]
+    assert_no_orphans(out)
+    metrics = json.loads((out / "metrics.json").read_text())
+    s = metrics["summary"]
+    assert metrics["engine"] == "processes" and metrics["mode"] == "improved"
+    assert s["duration_s"] >= 18.0
+    assert s["encircle_time_s"] is not None and s["encircle_time_s"] <= 20.0
+    assert s["polygon_iou_final"] >= 0.9
+    assert s["min_pairwise_distance_m"] >= 1.0 and s["near_miss_pairs"] == 0
+    assert s["tracking_rms_last_10s_m"] <= 1.5
+    geojson = json.loads((out / "polygons.geojson").read_text())
+    assert geojson["type"] == "FeatureCollection" and len(geojson["features"]) >= 10
+    for vid in (1, 9, 13):
+        assert {"HEARTBEAT", "LOCAL_POSITION_NED"} <= _mavlogdump_types(out / f"vehicle_{vid}.tlog")
+    events = (out / "events.log").read_text()
+    assert "flood clock starts" in events and "mission complete" in events
+
+
+def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) -> None:
+    """kill -9 of a boundary agent: the GCS reports it within 2 s, its vehicle falls back, the mission completes."""
+    out = tmp_path / "run"
+    scenario = load_scenario("circle")
+    options = _options(out, 25200, duration_s=30.0)
+    station = GroundStation(scenario, options, _mkdir(out))
+    result: dict[str, int] = {}
+    runner = threading.Thread(target=lambda: result.setdefault("code", _run(station)))
+    runner.start()
+    killed_at_utc = None
+    try:
+        deadline = time.monotonic() + 120.0
+        while time.monotonic() < deadline and not (station.phase == "mission" and station._flood_t_s() > 10.0):
+            time.sleep(0.1)
+        assert station.phase == "mission", (out / "events.log").read_text()[-2000:]
+        victim = pids_of_run(out)["agent_3"]
+        os.kill(victim, signal.SIGKILL)
+        killed_wall = time.monotonic()
+        killed_at_utc = time.time()
+        while time.monotonic() - killed_wall < 2.0 and 3 not in station.lost:
+            time.sleep(0.02)
+        reported_after_s = time.monotonic() - killed_wall
+    finally:
+        runner.join(timeout=180.0)
+        if runner.is_alive():
+            station.interrupt()
+            runner.join(timeout=30.0)
+    assert result.get("code") == 0, (out / "events.log").read_text()[-3000:]
+    assert reported_after_s < 2.0, f"agent loss reported after {reported_after_s:.2f} s"
+    assert_no_orphans(out)
+    events = (out / "events.log").read_text()
+    assert "agent 3 lost" in events
+    assert "vehicle 3: armed, mode AUTO.LOITER" in events or "vehicle 3: armed, mode AUTO.LAND" in events, events
+    metrics = json.loads((out / "metrics.json").read_text())
+    losses = [loss for loss in metrics["losses"] if loss["vehicle_id"] == 3]
+    assert losses, metrics["losses"]
+    assert metrics["summary"]["min_pairwise_distance_m"] >= 1.0
+    assert killed_at_utc is not None
+
+
+def test_ctrl_c_stops_everything_and_keeps_the_record(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
+    """SIGINT to ``python -m gcs.mission`` mid-flight: exit 130, no orphans, events and record on disk."""
+    out = tmp_path / "run"
+    proc = mission_cli(["circle", "--mode", "improved", "--speed", str(CI_SPEED), "--duration", "60", "--out", str(out),
+                        "--base-port", "25300", "--gcs-port", "25350", "--no-live"], "tcp/127.0.0.1:25360")
+    deadline = time.monotonic() + 120.0
+    while time.monotonic() < deadline and "flood clock starts" not in _read(out / "events.log"):
+        time.sleep(0.2)
+    time.sleep(3.0)
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stderr
+    assert_no_orphans(out)
+    assert "interrupted" in _read(out / "events.log")
+    record = np.load(out / "record.npz")
+    assert len(record["t_s"]) > 5
+
+
+def test_busy_gcs_port_fails_cleanly(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    blocker = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    blocker.bind(("127.0.0.1", 25450))
+    try:
+        code = run_processes(load_scenario("circle"), _options(out, 25400))
+    finally:
+        blocker.close()
+    assert code == 1
+    assert "25450" in _read(out / "events.log") and "not free" in _read(out / "events.log")
+    assert pids_of_run(out) == {}, "no child may start when the GCS port is taken"
+
+
+def test_agent_that_cannot_start_stops_the_mission(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    options = _options(out, 25500, extra_agent_args=("--link", "no-such-link"))
+    code = run_processes(load_scenario("circle"), options)
+    assert code == 1
+    assert "failed to start" in _read(out / "events.log")
+    assert_no_orphans(out)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["nosuchscenario"], "unknown scenario"),
+    (["circle", "--set", "flood.radius_start_m=-3"], "flood.radius_start_m"),
+    (["circle", "--set", "novalue"], "expected key=value"),
+])
+def test_bad_mission_input_is_one_line_and_exit_2(args: list[str], message: str) -> None:
+    proc = subprocess.run([sys.executable, "-m", "gcs.mission", *args, "--base-port", "25600", "--gcs-port", "25650"],
+                          cwd=REPO, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], proc.stderr
+
+
+def _mkdir(path: Path) -> Path:
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _run(station: GroundStation) -> int:
+    import asyncio
+
+    return asyncio.run(station.run())
+
+
+def _read(path: Path) -> str:
+    try:
+        return path.read_text()
+    except OSError:
+        return ""
