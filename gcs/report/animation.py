@@ -1,0 +1,195 @@
+"""A short animated GIF of the run: the flood growing, the UAVs with their camera footprints and recent trails,
+and the ground station's caged polygon.
+
+Kept small and quick: at most ``max_frames`` frames (60 by default) at ~400 px, drawn by updating a fixed set of
+artists on an Agg canvas (the static axes are drawn once and restored per frame, as matplotlib's blitting does) and
+written with Pillow using one shared palette, so a 60-frame GIF takes about a second and weighs a few hundred kB.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.colors import to_rgba
+from matplotlib.figure import Figure
+from numpy.typing import NDArray
+from PIL import Image
+
+from gcs.mission_record import MissionRecord, PolygonSample
+from gcs.report.trajectories import ROLE_COLOURS, vehicle_colours
+from mock_autopilot.world.flood_model import FloodModel
+
+TRAIL_S = 6.0
+
+
+def frame_indices(n_samples: int, max_frames: int) -> NDArray[np.int_]:
+    """At most ``max_frames`` sample indices, evenly spread, always ending on the last sample."""
+    if n_samples <= 0:
+        return np.zeros(0, int)
+    count = max(1, min(max_frames, n_samples))
+    return np.unique(np.round(np.linspace(0, n_samples - 1, count)).astype(int))
+
+
+def polygon_at(samples: Sequence[PolygonSample], t_s: float) -> PolygonSample | None:
+    """The latest polygon sample at or before ``t_s`` (None before the first)."""
+    best = None
+    for sample in samples:
+        if sample.t_s <= t_s + 1e-9:
+            best = sample
+        else:
+            break
+    return best
+
+
+def write_animation(
+    record: MissionRecord,
+    flood: FloodModel,
+    out_path: str | os.PathLike[str],
+    *,
+    metrics: Mapping[str, Any] | None = None,
+    max_frames: int = 60,
+    fps: int = 8,
+    size_px: int = 420,
+) -> Path:
+    """Render the run as a GIF into ``out_path``; ``metrics`` (compute_mission_metrics output) adds coverage to titles."""
+    t = np.asarray(record.t_s, dtype=float)
+    pos = np.asarray(record.positions_enu_m, dtype=float)
+    alive = np.asarray(record.alive, dtype=bool)
+    if alive.shape != pos.shape[:2]:
+        alive = np.ones(pos.shape[:2], bool)
+    sides = np.asarray(record.footprint_side_m, dtype=float)
+    if sides.shape != pos.shape[:2]:
+        sides = np.zeros(pos.shape[:2])
+    frames = frame_indices(len(t), max_frames)
+    colours = vehicle_colours(record)
+    coverage = _coverage_lookup(metrics)
+
+    dpi = 100
+    fig = Figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    fig.subplots_adjust(left=0.13, right=0.97, bottom=0.1, top=0.93)
+    lo, hi = _extent(record, flood, t, pos, alive)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("East [m]", fontsize=8)
+    ax.set_ylabel("North [m]", fontsize=8)
+    ax.tick_params(labelsize=7)
+    ax.grid(True, lw=0.3, alpha=0.5)
+
+    water = PolyCollection([], facecolors="#9ecae1", edgecolors="#3182bd", linewidths=1.0, zorder=1)
+    footprints = PolyCollection([], facecolors="none", linewidths=0.8, zorder=2)
+    trails = LineCollection([], linewidths=1.0, zorder=3)
+    ax.add_collection(water)
+    ax.add_collection(footprints)
+    ax.add_collection(trails)
+    caged_line, = ax.plot([], [], color="black", lw=1.8, zorder=5)
+    dots = ax.scatter(np.zeros(len(colours)), np.zeros(len(colours)), s=18, c=colours, edgecolors="black", linewidths=0.4, zorder=6)
+    title = ax.set_title("", fontsize=9)
+    for role, colour in ROLE_COLOURS.items():
+        if role in record.roles and len(record.vehicle_ids) > 13:
+            ax.plot([], [], "o", color=colour, ms=4, label=role)
+    ax.fill([], [], facecolor="#9ecae1", edgecolor="#3182bd", label="flood (truth)")
+    ax.plot([], [], color="grey", lw=0.8, label="camera footprint")
+    ax.plot([], [], color="black", lw=1.8, label="caged polygon")
+    ax.legend(loc="upper right", fontsize=6, framealpha=0.8)
+
+    def draw(k: int) -> list[Any]:
+        tk = float(t[k])
+        edge = np.asarray(flood.boundary_en_m(tk))
+        water.set_verts([edge])
+        live = alive[k]
+        squares = [_square(pos[k, i, :2], sides[k, i]) for i in np.flatnonzero(live & (sides[k] > 0))]
+        footprints.set_verts(squares)
+        seen = [colours[i] for i in np.flatnonzero(live & (sides[k] > 0))]
+        footprints.set_edgecolor([to_rgba(c, 0.85) for c in seen])
+        start = np.searchsorted(t, tk - TRAIL_S)
+        segments = [pos[start : k + 1, i, :2] for i in np.flatnonzero(live)]
+        trails.set_segments(segments)
+        trails.set_color([colours[i] for i in np.flatnonzero(live)])
+        dots.set_offsets(np.where(live[:, None], pos[k, :, :2], np.nan))
+        sample = polygon_at(record.polygons, tk)
+        ring = np.asarray(sample.ring_en_m, dtype=float) if sample is not None else np.zeros((0, 2))
+        if len(ring) >= 3:
+            closed = np.vstack([ring, ring[:1]])
+            caged_line.set_data(closed[:, 0], closed[:, 1])
+        else:
+            caged_line.set_data([], [])
+        cov = coverage(tk)
+        cov_text = f"   coverage {100 * cov:.0f}%" if cov is not None else ""
+        title.set_text(f"{record.scenario} ({record.mode})   t = {tk:5.1f} s{cov_text}")
+        return [water, footprints, trails, caged_line, dots, title]
+
+    dynamic = [water, footprints, trails, caged_line, dots, title]
+    for artist in dynamic:
+        artist.set_animated(True)
+    canvas = fig.canvas
+    canvas.draw()
+    background = canvas.copy_from_bbox(fig.bbox)
+    images = []
+    for k in frames:
+        draw(int(k))
+        canvas.restore_region(background)
+        for artist in dynamic:
+            fig.draw_artist(artist)
+        images.append(Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3].copy()))
+    out = Path(out_path)
+    _save_gif(images, out, fps)
+    return out
+
+
+def _save_gif(images: list[Image.Image], out: Path, fps: int) -> None:
+    """One shared 128-colour palette (from the first and last frames) keeps the GIF small and quick to write."""
+    if not images:
+        return
+    first, last = images[0], images[-1]
+    sample = Image.new("RGB", (first.width + last.width, first.height))
+    sample.paste(first, (0, 0))
+    sample.paste(last, (first.width, 0))
+    palette = sample.quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+    frames = [im.quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
+    frames[0].save(out, format="GIF", save_all=True, append_images=frames[1:], duration=int(1000 / max(fps, 1)), loop=0)
+
+
+def _square(centre_en_m: NDArray[np.float64], side_m: float) -> NDArray[np.float64]:
+    h = side_m / 2.0
+    return centre_en_m + np.array([[-h, -h], [h, -h], [h, h], [-h, h]])
+
+
+def _extent(
+    record: MissionRecord, flood: FloodModel, t: NDArray[np.float64], pos: NDArray[np.float64], alive: NDArray[np.bool_]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A square view holding every flood edge, every live position and its footprint, with a small margin."""
+    points = [np.asarray(flood.boundary_en_m(float(tk))) for tk in (t[:1].tolist() + t[-1:].tolist())]
+    live = pos[alive][:, :2]
+    if len(live):
+        points.append(live)
+    cloud = np.concatenate(points) if points else np.zeros((1, 2))
+    cloud = cloud[np.all(np.isfinite(cloud), axis=1)]
+    sides = np.asarray(record.footprint_side_m, dtype=float)
+    margin = (float(np.nanmax(sides)) / 2.0 if sides.size else 0.0) + 1.0
+    lo, hi = cloud.min(axis=0) - margin, cloud.max(axis=0) + margin
+    centre, half = (lo + hi) / 2.0, float(np.max(hi - lo)) / 2.0
+    return centre - half, centre + half
+
+
+def _coverage_lookup(metrics: Mapping[str, Any] | None) -> Callable[[float], float | None]:
+    """A function t -> latest coverage fraction from the metrics' coverage series (None when unknown)."""
+    series = (metrics or {}).get("coverage_series") or {}
+    times = np.asarray(series.get("t_s") or [], dtype=float)
+    values = list(series.get("coverage") or [])
+
+    def lookup(t_s: float) -> float | None:
+        if len(times) == 0:
+            return None
+        k = int(np.searchsorted(times, t_s + 1e-9)) - 1
+        return values[k] if k >= 0 else None
+
+    return lookup
