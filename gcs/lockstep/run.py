@@ -44,10 +44,9 @@ def run_and_write(scenario: Scenario, options: MissionOptions) -> tuple[Lockstep
     check_models(scenario)
     result = run_lockstep(scenario, options.mode)
     options.out_dir.mkdir(parents=True, exist_ok=True)
-    metrics = write_mission_outputs(result.record, result.flood, scenario.name, scenario.home, options.out_dir,
-                                    scenario.camera.fov_deg)
-    if not isinstance(metrics, dict):
-        metrics = json.loads((options.out_dir / "metrics.json").read_text(encoding="utf-8"))
+    paths = write_mission_outputs(result.record, result.flood, scenario.name, scenario.home, options.out_dir,
+                                  scenario.camera.fov_deg)
+    metrics = json.loads(paths["metrics"].read_text(encoding="utf-8"))
     return result, metrics
 
 
