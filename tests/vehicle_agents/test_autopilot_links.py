@@ -1,0 +1,64 @@
+"""Both autopilot links fly the PX4 offboard recipe against a real mock PX4 over loopback UDP."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+import numpy as np
+import pytest
+
+from mock_autopilot.fleet import Fleet
+from mock_autopilot.vehicle import VehicleConfig
+from vehicle_agents.autopilot_link import AutopilotLinkError
+from vehicle_agents.autopilot_link_mavsdk import MavsdkAutopilotLink
+from vehicle_agents.autopilot_link_pymavlink import PymavlinkAutopilotLink
+
+pytestmark = pytest.mark.integration
+
+
+async def _until(predicate, timeout_s: float) -> bool:  # noqa: ANN001
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        await asyncio.sleep(0.05)
+    return False
+
+
+@pytest.mark.parametrize(("make_link", "port"), [(MavsdkAutopilotLink, 26010), (PymavlinkAutopilotLink, 26020)])
+def test_link_arms_takes_off_and_flies_offboard_velocity(make_link, port: int) -> None:  # noqa: ANN001
+    async def fly(fleet: Fleet) -> None:
+        link = make_link(f"udpin://0.0.0.0:{port}")
+        try:
+            await link.connect(10.0)
+            assert await _until(lambda: link.telemetry.ready_to_arm, 10.0)
+            await link.arm()
+            await link.takeoff(6.0)
+            assert await _until(lambda: -link.telemetry.position_ned_m[2] > 5.4, 20.0), link.telemetry
+            await link.start_offboard((0.0, 0.0, 0.0), 0.0)
+            assert await _until(lambda: link.telemetry.flight_mode == "OFFBOARD", 5.0), link.telemetry
+            start = fleet.truth().position_enu_m[0].copy()
+            await link.set_velocity_ned((0.0, 1.0, 0.0), 0.0)  # 1 m/s east
+            await asyncio.sleep(2.0)
+            moved = fleet.truth().position_enu_m[0] - start
+            assert moved[0] > 1.5 and abs(moved[1]) < 0.3, moved  # east in ENU, at speed x2 for 2 s wall
+            await link.hold()
+            assert await _until(lambda: link.telemetry.flight_mode == "HOLD", 5.0), link.telemetry
+        finally:
+            await link.close()
+
+    with Fleet([VehicleConfig(0)], base_port=port, gcs_port=port + 5, speed=2.0) as fleet:
+        asyncio.run(fly(fleet))
+
+
+def test_connect_without_autopilot_is_a_clear_error() -> None:
+    async def connect() -> None:
+        link = MavsdkAutopilotLink("udpin://0.0.0.0:26030")
+        try:
+            await link.connect(1.0)
+        finally:
+            await link.close()
+
+    with pytest.raises(AutopilotLinkError, match="no autopilot heartbeat"):
+        asyncio.run(connect())
