@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import datetime as dt
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +19,7 @@ from gcs.scenario import Scenario
 
 __all__ = ["ProcessOptions", "run_mission", "run_processes", "process_options"]
 
+EXIT_USAGE = 2
 ZENOH_ENDPOINT_ENV = "FLOODWATCH_ZENOH_ENDPOINT"
 """Where the mission's Zenoh hub listens when the mission CLI runs us (default tcp/127.0.0.1:7447); tests set it so
 they never clash with a user's running mission."""
@@ -58,6 +60,17 @@ def run_processes(scenario: Scenario, options: ProcessOptions) -> int:
     """Run one mission with the processes engine; returns the exit code (0 only when it ran to the end)."""
     from gcs.processes.ground_station import GroundStation
 
+    from mock_autopilot.world.config import FloodConfigError, flood_model_from_config
+    from vehicle_agents.control.params import ControlParamsError
+
+    try:
+        flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+        scenario.control_params(options.mode)
+        if not options.speed > 0:
+            raise ValueError(f"--speed: must be > 0, got {options.speed:g}")
+    except (FloodConfigError, ControlParamsError, ValueError) as exc:
+        print(f"gcs.mission: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     out_dir = options.out_dir or default_out_dir(scenario.name)
     out_dir.mkdir(parents=True, exist_ok=True)
     station = GroundStation(scenario, options, out_dir)
