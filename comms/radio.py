@@ -31,6 +31,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--speed", type=float, default=1.0, help="simulation seconds per wall second")
     parser.add_argument("--stats-period-s", type=float, default=1.0, help="how often per-link counters are published")
+    parser.add_argument("--tick-s", type=float, default=0.005, help="delivery cycle: batches messages (adds up to this much latency)")
     parser.add_argument("--duration-s", type=float, default=None, help="stop after this many wall seconds")
     add_zenoh_arguments(parser)
     return parser.parse_args(argv)
@@ -40,14 +41,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parse_args(argv)
     try:
         validate_mission(args.mission)
-        if args.speed <= 0 or args.stats_period_s <= 0:
-            raise ValueError("--speed and --stats-period-s must be > 0")
+        if args.speed <= 0 or args.stats_period_s <= 0 or args.tick_s < 0:
+            raise ValueError("--speed and --stats-period-s must be > 0, --tick-s >= 0")
         config = RadioEmulatorConfig(
             mission=args.mission,
             zenoh=zenoh_config_from_args(args),
             radio=RadioModel(args.range_m, args.loss, args.latency_s, args.jitter_s, args.seed),
             speed=args.speed,
             stats_period_s=args.stats_period_s,
+            tick_s=args.tick_s,
         )
     except (ValueError, KeyNameError) as error:
         print(f"comms.radio: {error}", file=sys.stderr)

@@ -76,6 +76,7 @@ class Transmission:
     receiver_index: NDArray[np.int64]
     delivered: NDArray[np.bool_]
     delivery_t_s: NDArray[np.float64]
+    message_index: NDArray[np.int64] | None = None  # send_many: which of the K messages each row belongs to
 
     @property
     def heard_count(self) -> int:
@@ -191,3 +192,28 @@ class RadioModel:
         delivered, delivery_t_s = self.link_fate(ids[sender_index], ids[r_idx], seq, t_s)
         s_idx = np.full(r_idx.shape, sender_index, dtype=np.int64)
         return Transmission(s_idx, r_idx.astype(np.int64), delivered, delivery_t_s)
+
+    def send_many(
+        self,
+        sender_index: ArrayLike,
+        positions_m: ArrayLike,
+        t_s: ArrayLike,
+        seq: ArrayLike,
+        vehicle_ids: ArrayLike | None = None,
+    ) -> Transmission:
+        """K messages from the given position rows (e.g. everything the emulator received in one tick) at once:
+        O(K N) vectorised. ``t_s`` and ``seq`` are scalars or (K,); rows carry ``message_index`` into the K."""
+        p = np.asarray(positions_m, dtype=float)
+        senders = np.asarray(sender_index, dtype=np.int64).reshape(-1)
+        k = senders.size
+        ids = np.arange(p.shape[0], dtype=np.int64) if vehicle_ids is None else np.asarray(vehicle_ids, dtype=np.int64)
+        d = p[None, :, :] - p[senders][:, None, :]
+        with np.errstate(invalid="ignore"):
+            near = np.einsum("kij,kij->ki", d, d) <= self.range_m * self.range_m
+        near[np.arange(k), senders] = False
+        m_idx, r_idx = np.nonzero(near)
+        s_idx = senders[m_idx]
+        seq_k = np.broadcast_to(np.asarray(seq, dtype=np.int64), (k,))
+        t_k = np.broadcast_to(np.asarray(t_s, dtype=float), (k,))
+        delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_k[m_idx], t_k[m_idx])
+        return Transmission(s_idx, r_idx.astype(np.int64), delivered, delivery_t_s, m_idx.astype(np.int64))

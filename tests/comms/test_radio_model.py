@@ -127,3 +127,19 @@ def test_delivery_queue_releases_in_time_order_and_is_bounded() -> None:
     assert q.pop_due(0.15) == [(0.1, 2, "a")]
     assert [x[2] for x in q.pop_due(1.0)] == ["b", "c"]
     assert q.pop_due(2.0) == [] and q.next_delivery_t_s() is None
+
+
+def test_send_many_agrees_with_single_sends() -> None:
+    pos = np.random.default_rng(6).uniform(-30, 30, size=(30, 3))
+    radio = RadioModel(25.0, loss_probability=0.3, latency_s=0.01, jitter_s=0.02, seed=4)
+    senders = np.array([5, 0, 29, 12])
+    seqs = np.array([7, 8, 9, 10])
+    times = np.array([1.0, 1.1, 1.2, 1.3])
+    many = radio.send_many(senders, pos, times, seqs)
+    for k, s in enumerate(senders):
+        one = radio.send(int(s), pos, float(times[k]), int(seqs[k]))
+        rows = many.message_index == k
+        np.testing.assert_array_equal(many.receiver_index[rows], one.receiver_index)
+        np.testing.assert_array_equal(many.delivered[rows], one.delivered)
+        np.testing.assert_array_equal(many.delivery_t_s[rows], one.delivery_t_s)
+        assert (many.sender_index[rows] == s).all()

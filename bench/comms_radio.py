@@ -1,0 +1,203 @@
+"""Benchmark: end-to-end neighbour-message latency through the Zenoh radio emulator, and the emulator's CPU.
+
+Three processes on loopback, as in a mission:
+* this process: the Zenoh hub, the simulator's truth at 20 Hz, and N drones' states at 20 Hz each
+  (one load generator instead of N agent processes, so the machine measures the radio, not N interpreters);
+* ``python -m comms.radio`` (the thing measured: its CPU from /proc/<pid>/stat);
+* a receiver process subscribed to every drone's inbox (one wildcard subscriber), recording for each delivered
+  message ``rx time - source time`` (both ``time.monotonic()``: one clock on one machine).
+
+Drones sit on a square grid with ``--spacing-m`` (default 10 m, d in the paper) and radio range 25 m, so an interior
+drone has ~20 neighbours in range. Run:
+
+    .venv/bin/python bench/comms_radio.py --drones 13 100 300 --duration-s 10
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+
+import msgspec  # noqa: E402
+import numpy as np  # noqa: E402
+
+from comms.keys import MissionKeys  # noqa: E402
+from comms.messages import GroundTruth, NeighbourState, RadioBundle, encode  # noqa: E402
+from comms.radio_model import RadioModel  # noqa: E402
+from comms.zenoh_session import ZenohConfig, ZenohSession  # noqa: E402
+
+RATE_HZ = 20.0
+
+
+def grid_positions(n: int, spacing_m: float) -> np.ndarray:
+    side = int(np.ceil(np.sqrt(n)))
+    ij = np.array([(i % side, i // side) for i in range(n)], dtype=float)
+    p = np.zeros((n, 3))
+    p[:, :2] = (ij - (side - 1) / 2) * spacing_m
+    p[:, 2] = 10.0
+    return p
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+class _SourceTime(msgspec.Struct):
+    """Just the source time of a NeighbourState (msgspec skips the other fields): keeps the probe cheap."""
+
+    t_s: float
+
+
+def receiver(hub: str, mission: str, duration_s: float, sample_every: int) -> int:
+    """Subscribe to every inbox (one wildcard subscriber); time the messages of every ``sample_every``-th
+    receiver (the others are received and counted, not decoded, so the probe does not become the bottleneck);
+    print JSON with latencies [s] and counts when done."""
+    keys = MissionKeys(mission)
+    bundle_decoder = msgspec.msgpack.Decoder(RadioBundle)
+    time_decoder = msgspec.msgpack.Decoder(_SourceTime)
+    latencies: list[float] = []
+    counts = {"bundles": 0, "messages": 0}
+    lock = threading.Lock()
+
+    def unpack(key: str, payload: bytes) -> list[tuple[str, bytes]]:
+        now = time.monotonic()
+        if (keys.vehicle_id_of(key) or 0) % sample_every:
+            with lock:
+                counts["bundles"] += 1
+            return []
+        bundle = bundle_decoder.decode(payload)
+        lat = [now - time_decoder.decode(data).t_s for _, data in bundle.entries]
+        with lock:
+            latencies.extend(lat)
+            counts["bundles"] += 1
+            counts["messages"] += len(lat)
+        return []
+
+    with ZenohSession(ZenohConfig.member(hub)) as session:
+        session.subscribe(f"{keys.prefix}/radio/*/inbox", unpack=unpack)
+        print("READY", flush=True)
+        stop = threading.Event()
+        signal.signal(signal.SIGTERM, lambda *_: stop.set())
+        stop.wait(duration_s)
+    with lock:
+        print(json.dumps({"latencies": latencies, **counts}), flush=True)
+    return 0
+
+
+def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latency_s: float, tick_s: float, hub: str) -> dict:
+    mission = f"bench{n}"
+    keys = MissionKeys(mission)
+    positions = grid_positions(n, spacing_m)
+    neighbours = RadioModel(25.0).in_range(positions).sum(axis=1)
+    env = dict(os.environ, PYTHONPATH=str(REPO))
+    with ZenohSession(ZenohConfig.hub(hub)) as session:
+        radio = subprocess.Popen([sys.executable, "-m", "comms.radio", "--mission", mission, "--range-m", "25",
+                                  "--latency-s", str(latency_s), "--tick-s", str(tick_s), "--connect", hub], cwd=REPO, env=env,
+                                 stderr=subprocess.PIPE, text=True)
+        rx = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--hub", hub, "--mission", mission,
+                               "--duration-s", str(duration_s + warmup_s + 30),
+                               "--sample-every", str(max(1, n // 20))], cwd=REPO, env=env,
+                              stdout=subprocess.PIPE, text=True)
+        try:
+            assert rx.stdout is not None and rx.stdout.readline().strip() == "READY"
+            time.sleep(1.0)
+            ids = list(range(n))
+            truth_payload = lambda t: encode(GroundTruth(t_s=t, vehicle_ids=ids, positions_enu_m=[tuple(p) for p in positions.tolist()]))  # noqa: E731
+            state_keys = [keys.state(i) for i in ids]
+            period = 1.0 / RATE_HZ
+            phase = np.arange(n) * period / n  # drones spread over the period, as unsynchronised radios are
+            start = time.monotonic()
+            next_send = start + phase
+            next_truth = start
+            seq = np.zeros(n, dtype=np.int64)
+            cpu0 = None
+            t_measure = 0.0
+            sent_measured = 0
+            end = start + warmup_s + duration_s
+            while True:
+                now = time.monotonic()
+                if now >= end:
+                    break
+                if cpu0 is None and now >= start + warmup_s:
+                    cpu0, t_measure = cpu_seconds(radio.pid), now
+                    sent_at_measure = int(seq.sum())
+                if now >= next_truth:
+                    session.put(keys.truth, truth_payload(now))
+                    next_truth += period
+                for i in np.flatnonzero(next_send <= now).tolist():
+                    t = time.monotonic()
+                    session.put(state_keys[i], encode(NeighbourState(
+                        sender_id=i, role="boundary", seq=int(seq[i]), t_s=t, position_en_m=(float(positions[i, 0]), float(positions[i, 1])),
+                        altitude_m=10.0, velocity_en_mps=(0.0, 0.0))))
+                    seq[i] += 1
+                    next_send[i] += period
+                time.sleep(max(0.0, min(float(next_send.min()), next_truth) - time.monotonic()))
+            cpu1, t_end = cpu_seconds(radio.pid), time.monotonic()
+            sent_measured = int(seq.sum()) - sent_at_measure
+            lag = float(max(0.0, time.monotonic() - next_send.min()))
+            time.sleep(0.5)
+        finally:
+            rx.send_signal(signal.SIGTERM)
+            out, _ = rx.communicate(timeout=60)
+            radio.send_signal(signal.SIGTERM)
+            _, radio_err = radio.communicate(timeout=60)
+    result = json.loads(out.strip().splitlines()[-1])
+    lat = np.array(result["latencies"])
+    # discard the warm-up share of the samples (first warmup/(warmup+duration) of the run)
+    lat = lat[int(len(lat) * warmup_s / (warmup_s + duration_s)):]
+    delivered = int(radio_err.split("delivered ")[1].split(",")[0]) if "delivered " in radio_err else 0
+    return {
+        "drones": n,
+        "deliveries_per_s": delivered / (duration_s + warmup_s),
+        "mean_neighbours": float(neighbours.mean()),
+        "states_per_s": sent_measured / (t_end - t_measure),
+        "sampled_deliveries_per_s": result["messages"] / (duration_s + warmup_s),
+        "bundles_per_s": result["bundles"] / (duration_s + warmup_s),
+        "radio_cpu_pct": 100.0 * (cpu1 - cpu0) / (t_end - t_measure),
+        "p50_ms": float(np.percentile(lat, 50) * 1e3) if lat.size else float("nan"),
+        "p99_ms": float(np.percentile(lat, 99) * 1e3) if lat.size else float("nan"),
+        "samples": int(lat.size),
+        "generator_lag_s": lag,
+        "radio_summary": radio_err.strip().splitlines()[-1] if radio_err.strip() else "",
+    }
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description="Radio emulator latency and CPU benchmark.")
+    parser.add_argument("--role", choices=("driver", "receiver"), default="driver")
+    parser.add_argument("--drones", type=int, nargs="+", default=[13, 100, 300])
+    parser.add_argument("--duration-s", type=float, default=10.0)
+    parser.add_argument("--warmup-s", type=float, default=2.0)
+    parser.add_argument("--spacing-m", type=float, default=10.0)
+    parser.add_argument("--latency-s", type=float, default=0.0, help="radio model latency (0 = pure pipeline cost)")
+    parser.add_argument("--tick-s", type=float, default=0.005, help="radio delivery cycle (comms.radio --tick-s)")
+    parser.add_argument("--hub", default="tcp/127.0.0.1:24447")
+    parser.add_argument("--mission", default="bench")
+    parser.add_argument("--sample-every", type=int, default=1, help="receiver role: time every k-th receiver")
+    args = parser.parse_args(argv)
+    if args.role == "receiver":
+        return receiver(args.hub, args.mission, args.duration_s, args.sample_every)
+    print("| drones | mean neighbours | states in /s | deliveries /s | inbox bundles /s | radio CPU % of one core | latency p50 ms | p99 ms |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for n in args.drones:
+        r = run_one(n, args.duration_s, args.warmup_s, args.spacing_m, args.latency_s, args.tick_s, args.hub)
+        print(f"| {r['drones']} | {r['mean_neighbours']:.1f} | {r['states_per_s']:.0f} | {r['deliveries_per_s']:.0f} | {r['bundles_per_s']:.0f} | "
+              f"{r['radio_cpu_pct']:.0f} | {r['p50_ms']:.2f} | {r['p99_ms']:.2f} |", flush=True)
+        print(f"<!-- {json.dumps({k: v for k, v in r.items()})} -->", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
