@@ -2,7 +2,7 @@
 
 No control law runs here. Boundary drones leave the launch point (angle 0) in two groups and spread evenly round
 the expanding circle over ``spread_s`` seconds, riding the edge; the leader sits at the centre; followers sit
-``follower_radius_m`` out at 45° + k·90°. The ground station polygon at each ``polygon_period_s`` is built with
+``follower_radius_m`` out at 45° + k·90° (more than four fill the disc of that radius on a Vogel spiral). The ground station polygon at each ``polygon_period_s`` is built with
 :func:`gcs.polygon.caged_polygon` from the drones and the true edge points inside each boundary footprint.
 Optionally one boundary drone is lost at ``loss_at_s`` and the others re-space over ``respace_s``.
 """
@@ -51,9 +51,8 @@ def synthetic_circle_record(
     for k, tk in enumerate(t):
         r = flood.radius_m(float(tk))
         pos[k, 0] = (cx, cy, altitude_m)
-        for j in range(n_followers):
-            a = math.pi / 4 + j * math.pi / 2
-            pos[k, 1 + j] = (cx + follower_radius_m * math.cos(a), cy + follower_radius_m * math.sin(a), altitude_m)
+        for j, (fx, fy) in enumerate(_follower_offsets(n_followers, follower_radius_m)):
+            pos[k, 1 + j] = (cx + fx, cy + fy, altitude_m)
         angles = _boundary_angles(n_boundary, float(tk), spread_s, loss_at_s, respace_s)
         for b, a in enumerate(angles):
             pos[k, 1 + n_followers + b] = (cx + r * math.cos(a), cy + r * math.sin(a), altitude_m)
@@ -89,6 +88,17 @@ def synthetic_circle_record(
         climb_events=[0] * n_v,
     )
     return record, flood
+
+
+def _follower_offsets(n: int, radius_m: float) -> NDArray[np.float64]:
+    """Up to 4 followers at ``radius_m`` on the diagonals (the issue's layout); more fill a disc (Vogel spiral)."""
+    if n <= 4:
+        a = math.pi / 4 + np.arange(n) * math.pi / 2
+        return np.stack([radius_m * np.cos(a), radius_m * np.sin(a)], axis=-1)
+    k = np.arange(1, n + 1)
+    r = radius_m * np.sqrt(k / n)
+    a = k * math.pi * (3.0 - math.sqrt(5.0))
+    return np.stack([r * np.cos(a), r * np.sin(a)], axis=-1)
 
 
 def _boundary_angles(n: int, t_s: float, spread_s: float, loss_at_s: float | None, respace_s: float) -> NDArray[np.float64]:

@@ -17,7 +17,8 @@ from typing import Any
 from comms.frames import GeodeticHome
 from gcs.metrics.mission import compute_mission_metrics
 from gcs.mission_record import MissionRecord
-from gcs.polygon.growth import polygon_growth_rate_m2ps
+from gcs.polygon.growth import area_growth_rate_m2ps
+from gcs.polygon.ring import ring_area_m2
 from gcs.report.animation import write_animation
 from gcs.report.polygon_log import PolygonLog
 from gcs.report.trajectories import plot_trajectories
@@ -26,6 +27,7 @@ from mock_autopilot.world.flood_model import FloodModel
 METRICS_NAME = "metrics.json"
 TRAJECTORIES_NAME = "trajectories.png"
 ANIMATION_NAME = "animation.gif"
+GROWTH_WINDOW_S = 5.0
 
 
 def write_metrics_json(metrics: Mapping[str, Any], out_path: str | os.PathLike[str]) -> Path:
@@ -42,9 +44,11 @@ def write_polygon_files(
 ) -> tuple[Path, Path]:
     """polygons.geojson and polygons.kml: one feature / placemark per polygon sample of the record."""
     with PolygonLog(out_dir, home, name=f"FloodWatch {scenario_name}: caged flood polygon", start_utc=start_utc) as log:
+        times = [sample.t_s for sample in record.polygons]
+        areas = [ring_area_m2(sample.ring_en_m) for sample in record.polygons]
         for k, sample in enumerate(record.polygons):
-            growth = polygon_growth_rate_m2ps(record.polygons[max(0, k - 50) : k + 1], window_s=5.0)
-            log.append(sample.t_s, sample.ring_en_m, {"scenario": scenario_name, "growth_rate_m2_per_s": round(growth, 3) if growth == growth else None})
+            growth = area_growth_rate_m2ps(times[: k + 1], areas[: k + 1], window_s=GROWTH_WINDOW_S)
+            log.append(sample.t_s, sample.ring_en_m, {"scenario": scenario_name, "growth_rate_m2_per_s": round(growth, 3)})
         return log.geojson_path, log.kml_path
 
 
