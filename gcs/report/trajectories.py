@@ -94,7 +94,8 @@ def build_trajectory_figure(record: MissionRecord, flood: FloodModel, title: str
         ax.plot(track[:, 0], track[:, 1], color=colours[i], lw=line_width, alpha=0.9, zorder=3, label=label)
         ax.plot(*track[0], "o", ms=3.5, color=colours[i], mec="white", mew=0.5, zorder=4)
         end_marker = ROLE_MARKERS.get(record.roles[i], "o") if live[-1] else "X"
-        ax.plot(*track[-1], end_marker, ms=9 if end_marker == "*" else 6.5, color=colours[i], mec="black", mew=0.6, zorder=5)
+        size = (9 if end_marker == "*" else 6.5) * (0.6 if big_fleet else 1.0)
+        ax.plot(*track[-1], end_marker, ms=size, color=colours[i], mec="black", mew=0.4 if big_fleet else 0.6, zorder=5)
 
     if record.polygons:
         final = record.polygons[-1]
