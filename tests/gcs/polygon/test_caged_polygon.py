@@ -94,3 +94,24 @@ def test_points_alone_without_a_drone_ring_use_their_hull() -> None:
     everything = np.stack([RADIUS_M * np.cos(theta), RADIUS_M * np.sin(theta)], axis=-1)
     ring = caged_polygon(np.zeros((0, 2)), [everything])
     assert iou(ring) >= 0.99
+
+
+def test_a_non_convex_flood_is_followed_far_better_than_by_the_vertices() -> None:
+    rng = np.random.default_rng(5)
+    theta = np.linspace(0.0, 2 * math.pi, 4000, endpoint=False)
+    radius = 16.0 * (1 + 0.2 * np.cos(3 * theta) + 0.1 * np.cos(5 * theta + 0.7))  # SPEC §3 non-convex flood
+    edge = np.stack([radius * np.cos(theta), radius * np.sin(theta)], axis=-1)
+    truth = Polygon(edge)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(edge, axis=0), axis=1))])
+    drones = edge[np.searchsorted(arc, arc[-1] * (np.arange(8) + 0.3) / 8)]
+    seen = []
+    for d in drones:
+        inside = np.all(np.abs(edge - d) <= FOOTPRINT_M / 2, axis=1)
+        seen.append(edge[inside][::3] + rng.normal(0.0, 0.1, (len(edge[inside][::3]), 2)))
+
+    def score(ring: np.ndarray) -> float:
+        poly = Polygon(ring)
+        return poly.intersection(truth).area / poly.union(truth).area
+
+    assert score(drones) < 0.85
+    assert score(caged_polygon(drones, seen)) >= 0.97
