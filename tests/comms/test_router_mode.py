@@ -56,3 +56,28 @@ def test_client_without_router_fails_clearly(free_endpoint: Callable[[], str]) -
     with pytest.raises(ZenohOpenError, match="client"):
         ZenohSession(ZenohConfig.client(free_endpoint()))
     assert time.monotonic() - t0 < 30
+
+
+def test_outside_listener_sees_public_keys_of_a_running_mission(free_endpoint: Callable[[], str], spawn: Callable) -> None:
+    import json
+
+    from comms.frames import GeodeticHome
+    from comms.messages import encode, flood_polygon_from_enu
+
+    hub_ep = free_endpoint()
+    keys = MissionKeys("rt2")
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        hub.declare_alive(keys.alive(3))
+        listener = spawn("-m", "comms.listen", "--mission", "rt2", "--connect", hub_ep, "--duration-s", "4", "--every-s", "0")
+        time.sleep(1.5)
+        for seq in range(20):
+            hub.put(keys.state(3), encode(NeighbourState(sender_id=3, role="boundary", seq=seq, t_s=seq * 0.05,
+                                                         position_en_m=(14.0, 0.0), altitude_m=10.0, group="A")))
+            time.sleep(0.05)
+        hub.put(keys.polygon, encode(flood_polygon_from_enu([[12, 0], [0, 12], [-12, 0], [0, -12]], GeodeticHome(), mission="rt2", t_s=5.0)))
+        out, err = listener.communicate(timeout=30)
+    assert listener.returncode == 0, err
+    records = [json.loads(line) for line in out.splitlines()]
+    assert {"key": keys.alive(3), "alive": True} in records
+    assert any(r.get("id") == 3 and r.get("group") == "A" for r in records)
+    assert any(r.get("key") == keys.polygon and r.get("vertices") == 4 and r.get("area_m2") == 288.0 for r in records)
