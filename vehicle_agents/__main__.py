@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--speed", type=float, default=1.0, help="simulation speed factor (mission s per wall s)")
     p.add_argument("--rate-hz", type=float, help="control rate in mission time (default: the scenario's)")
     p.add_argument("--connect-timeout", type=float, default=30.0, help="wall seconds to wait for the autopilot")
-    p.add_argument("--link-timeout", type=float, default=1.5, help="wall seconds of autopilot silence = vehicle lost")
+    p.add_argument("--link-timeout", type=float, default=2.0, help="wall seconds of autopilot silence = vehicle lost")
     p.add_argument("--log-level", default="INFO")
     add_zenoh_arguments(p)
     return p

@@ -58,7 +58,7 @@ class Command(enum.Enum):
 class PhaseLimits:
     takeoff_altitude_m: float = 10.0
     takeoff_reached_fraction: float = 0.9
-    link_timeout_s: float = 1.5
+    link_timeout_s: float = 2.0
     """Wall-clock silence after which the autopilot counts as lost (PX4 heartbeat is 1 Hz; telemetry is ~30 Hz)."""
     low_battery_fraction: float = 0.15
 
