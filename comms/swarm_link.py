@@ -21,11 +21,12 @@ import msgspec
 
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
-from comms.messages import DecodeStats, NeighbourState, RadioBundle, decode, decode_stats, encode
-from comms.neighbour_table import NeighbourTable
+from comms.messages import DecodeStats, NeighbourState, PeerEvent, RadioBundle, decode, decode_stats, encode
+from comms.neighbour_table import NeighbourEvent, NeighbourTable
 from comms.zenoh_session import ZenohSession
 
 _bundle_decoder = msgspec.msgpack.Decoder(RadioBundle)
+_PEER_EVENT = {"joined": "alive", "alive": "alive", "rejoined": "rejoined", "stale": "stale", "dead": "dead", "left": "dead"}
 
 
 def bundle_unpacker(keys: MissionKeys, max_bytes: int = 16 * 1024 * 1024):
@@ -133,6 +134,15 @@ class SwarmLink:
     async def wait_async(self, timeout_s: float | None = None) -> bool:
         """Await (asyncio) until something arrives; True if there is something to poll."""
         return await self.buffer.wait_async(timeout_s)
+
+    def report_events(self, events: Iterable[NeighbourEvent], observer: str) -> int:
+        """Publish table events (dead, stale, left, rejoined, ...) as ``PeerEvent`` on ``floodwatch/<m>/gcs/events``
+        so the ground station's log and any outside client see who dropped out and why; returns how many."""
+        n = 0
+        for e in events:
+            self.session.put(self.keys.events, encode(PeerEvent(t_s=e.t_s, vehicle_id=e.vehicle_id, event=_PEER_EVENT[e.event], observer=observer)))
+            n += 1
+        return n
 
     def update_table(self, table: NeighbourTable, now_s: float) -> FeedUpdate:
         """Poll and apply to ``table`` (liveliness first, then states), then expire stale entries."""

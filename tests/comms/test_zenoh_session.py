@@ -67,10 +67,9 @@ def test_bad_payloads_on_public_and_inbox_keys_are_dropped_and_counted(free_endp
         direct = SwarmLink(hub, keys, None, via_radio=False, participant="gcs", stats=stats)
         radio = SwarmLink(agent_session, keys, 1, via_radio=True, stats=stats)
         time.sleep(0.5)
-        for payload in (b"", b"\xff" * 50, encode(_state(3, 1))[:-4], b"\x00" * 20_000):
-            agent_session.put(keys.state(3), payload)
-            time.sleep(0.05)
-            direct.poll()
+        # one key per bad payload: on a shared key newest-wins could legitimately supersede one before the poll
+        for vid, payload in enumerate((b"", b"\xff" * 50, encode(_state(3, 1))[:-4], b"\x00" * 20_000), start=10):
+            agent_session.put(keys.state(vid), payload)
         agent_session.put(keys.state(4), encode(_state(5, 1)))  # claims to be 5 on 4's key
         hub.put(keys.inbox(1), b"not a bundle")
         time.sleep(0.3)
@@ -193,3 +192,22 @@ def test_buffer_shared_by_two_subscribers(free_endpoint: Callable[[], str]) -> N
             return keys == {"floodwatch/a/x", "floodwatch/b/y"}
 
         assert _until(both)
+
+
+def test_table_events_are_published_for_the_ground_station(free_endpoint: Callable[[], str]) -> None:
+    from comms.messages import PeerEvent, decode
+    from comms.neighbour_table import NeighbourTable
+
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs5")
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as agent:
+        events_buf = hub.subscribe(keys.events, LatestValueBuffer())
+        link = SwarmLink(agent, keys, 1, via_radio=False)
+        time.sleep(0.5)
+        table = NeighbourTable(own_id=1, period_s=0.05)
+        table.heard(_state(2, 1), 0.0)
+        table.expire(1.0)
+        assert link.report_events(table.take_events(), observer="1") == 2
+        got: list[PeerEvent] = []
+        assert _until(lambda: bool(got.extend(filter(None, (decode(PeerEvent, r.payload) for r in events_buf.drain())))) or bool(got))
+        assert got[-1].vehicle_id == 2 and got[-1].event == "stale" and got[-1].observer == "1"
