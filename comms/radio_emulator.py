@@ -262,6 +262,12 @@ class RadioEmulator:
         self.session.declare_alive(self.keys.alive("radio"))
         self.error: BaseException | None = None
 
+    @property
+    def input_superseded(self) -> int:
+        """Agent messages overwritten by a newer one from the same sender before the emulator got to them
+        (newest wins: non-zero only when the emulator falls behind)."""
+        return self._buffer.superseded
+
     def __enter__(self) -> RadioEmulator:
         self.start()
         return self
