@@ -1,9 +1,18 @@
 """The only module of the mock autopilot that touches sockets: one asyncio UDP endpoint per vehicle link.
 
 A link starts by sending to its configured remote (PX4 SITL: 127.0.0.1:14540+i for the onboard/API link,
-127.0.0.1:14550 for the GCS link) and afterwards replies to whatever address the peer used, but only once a
-datagram from that address *vouched* for it (see :mod:`mock_autopilot.mavlink_codec`): garbage or frames that fail
-any check never move the peer. Fault injection (drop, delay) sits here because it is about the wire.
+127.0.0.1:14550 for the GCS link) and afterwards replies to whatever address the peer used. Peer address rule
+(stricter than PX4, which latches the source of the very first datagram, garbage included):
+
+* only a datagram that *vouches* for its sender moves the peer (at least one frame passed every check of
+  :mod:`mock_autopilot.mavlink_codec`: MAVLink 2, known id, CRC, target, signature where required); garbage, bad
+  CRC, MAVLink 1, unknown ids or frames for another system never do;
+* until the peer has been heard from, the first vouching datagram from any address latches it; afterwards only a
+  vouching datagram that carries a HEARTBEAT moves it (a restarted MAVSDK or QGroundControl on a new port sends
+  heartbeats at once; a stranger's stray commands do not steal the telemetry). A stranger who sends valid
+  heartbeats can still take the link, exactly as with PX4; MAVLink 2 signing on the GCS link is the defence.
+
+Fault injection (drop, delay) sits here because it is about the wire.
 """
 
 from __future__ import annotations
@@ -30,6 +39,7 @@ class UdpLink(asyncio.DatagramProtocol):
         self.name = name
         self.codec = codec
         self.peer: Address = remote
+        self.peer_confirmed = False
         self.clock = clock
         self._on_message = on_message
         self._transport: asyncio.DatagramTransport | None = None
@@ -76,10 +86,14 @@ class UdpLink(asyncio.DatagramProtocol):
     def _process(self, data: bytes, addr: tuple) -> None:
         parsed = self.codec.parse_datagram(data, self.clock.unix_time_s())
         source: Address = (addr[0], addr[1])
-        if parsed.vouched and source != self.peer:
-            log.info("link %s of system %d: peer %s:%d -> %s:%d", self.name, self.codec.system_id, *self.peer, *source)
-            self.peer = source
-            self.peer_changes += 1
+        if parsed.vouched:
+            if source == self.peer:
+                self.peer_confirmed = True
+            elif not self.peer_confirmed or any(m.get_type() == "HEARTBEAT" for m in parsed.messages):
+                log.info("link %s of system %d: peer %s:%d -> %s:%d", self.name, self.codec.system_id, *self.peer, *source)
+                self.peer = source
+                self.peer_confirmed = True
+                self.peer_changes += 1
         for message in parsed.messages:
             self._on_message(self.name, message)
 

@@ -118,6 +118,14 @@ def test_garbage_from_a_stranger_does_not_redirect_telemetry() -> None:
         assert wait_msg(owner, "HEARTBEAT", timeout_s=2.0) is not None
         assert fleet.links[0]["onboard"].peer_changes == 0
         assert not fleet.truth().armed[0]
+        # once the owner has been heard, a stranger's valid non-heartbeat frames do not move the peer either
+        owner.mav.heartbeat_send(6, 8, 0, 0, 4, 3)
+        time.sleep(0.1)
+        stranger.sendto(owner.mav.ping_encode(1, 1, 0, 0).pack(owner.mav), target)
+        assert wait_msg(owner, "PING", lambda p: p.target_system == 255, timeout_s=2.0) is not None
+        with pytest.raises(socket.timeout):
+            stranger.recv(2048)
+        assert fleet.links[0]["onboard"].peer_changes == 0
         # a valid MAVLink 2 heartbeat from a new address is a new peer (PX4 follows the sender too)
         hb = owner.mav.heartbeat_encode(6, 8, 0, 0, 4, 3).pack(owner.mav)
         stranger.sendto(hb, target)
