@@ -7,6 +7,7 @@ the agents' neighbour table does over Zenoh; the age a control law sees is the t
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -30,6 +31,8 @@ class RadioLink:
         self._pending_s = np.zeros(0, dtype=np.int64)
         self._pending_r = np.zeros(0, dtype=np.int64)
         self._pending_q = np.zeros(0, dtype=np.int64)
+        self._aged_t_s = math.nan
+        self._aged: dict[tuple[int, int], NeighbourInfo] = {}
         self.heard_total = 0
         self.lost_total = 0
 
@@ -60,15 +63,25 @@ class RadioLink:
             del self._sent[seq]
 
     def heard_by(self, receiver: int, t_s: float) -> list[NeighbourInfo]:
-        """What ``receiver`` (row index) currently knows of its neighbours, each aged to ``t_s``."""
+        """What ``receiver`` (row index) currently knows of its neighbours, each aged to ``t_s``.
+
+        A message's age depends only on when it was sent, so each (seq, sender) is aged once per ``t_s`` and the
+        same value is shared by every receiver (they are frozen).
+        """
+        if t_s != self._aged_t_s:
+            self._aged_t_s = t_s
+            self._aged = {}
         out: list[NeighbourInfo] = []
         row = self.latest_seq[receiver]
-        for sender in np.flatnonzero(row >= 0):
-            sent = self._sent.get(int(row[sender]))
-            if sent is None:
-                continue
-            sent_t, messages = sent
-            msg = messages[sender]
-            if msg is not None:
-                out.append(replace(msg, age_s=max(t_s - sent_t, 0.0)))
+        for sender in np.flatnonzero(row >= 0).tolist():
+            seq = int(row[sender])
+            aged = self._aged.get((seq, sender))
+            if aged is None:
+                sent = self._sent.get(seq)
+                if sent is None or sent[1][sender] is None:
+                    continue
+                sent_t, messages = sent
+                aged = replace(messages[sender], age_s=max(t_s - sent_t, 0.0))
+                self._aged[(seq, sender)] = aged
+            out.append(aged)
         return out

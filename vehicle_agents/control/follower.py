@@ -14,6 +14,9 @@ a compact flock round the leader (a sunflower pattern of targets) until the floo
 R comes from the leader's gossiped estimate.
 
 ω (eq 10's constant vector) is read like v in eq 6: gain × unit vector from follower k to this follower.
+Improved mode drops this β term: with d = 10 m it pushes followers off their layer places whenever layers are
+denser than d (large fleets) and, summed over a crowd at launch, saturates every command; the layer targets
+already spread the followers, and the short-range push of :mod:`safety` plus the barrier keep them apart.
 """
 
 from __future__ import annotations
@@ -89,11 +92,12 @@ def follower_step(
         target, target_rate = q, np.zeros(2)
 
     velocity = np.asarray(params.k_follower_per_s) * (target - q) + target_rate
-    peers = np.array([n.position_en_m for n in neighbours if n.role == ROLE_FOLLOWER], dtype=float).reshape(-1, 2)
-    velocity = velocity + separation_velocity(q, peers, params.separation_distance_m, params.separation_gain_mps)
     if params.mode == "improved":
         others = np.array([n.position_en_m for n in neighbours], dtype=float).reshape(-1, 2)
         velocity = velocity + safety_velocity(q, others, params.safety_radius_m, params.safety_gain_mps)
+    else:
+        peers = np.array([n.position_en_m for n in neighbours if n.role == ROLE_FOLLOWER], dtype=float).reshape(-1, 2)
+        velocity = velocity + separation_velocity(q, peers, params.separation_distance_m, params.separation_gain_mps)
     speed = float(np.hypot(velocity[0], velocity[1]))
     if speed > params.max_speed_mps:
         velocity *= params.max_speed_mps / speed

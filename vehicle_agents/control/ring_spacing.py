@@ -4,7 +4,9 @@ The paper spaces boundary drones only by the β repulsion of eq 6, which acts wi
 exceeds d (circle at 16 m: 12.6 m > 10 m) nothing evens the gaps out. Here each drone moves along its edge
 tangent by ``k (g_ahead − g_behind) / 2`` plus the mean tangential velocity of its two neighbours, where the gaps
 are the distances to the previous and next drone in the ring order of the mission plan (B's leader, B..., A...,
-A's leader, closing back to B's leader once encircled). This is a discrete Laplacian: the gaps converge to equal,
+A's leader, closing back to B's leader once encircled), signed by the side of the tangent they are on: a
+neighbour found on the wrong side (order scrambled in a crowd at launch) gives a negative gap, which drives the
+pair back into order instead of letting two drones settle side by side. This is a discrete Laplacian: the gaps converge to equal,
 whatever d is, and during encircling the drones spread evenly between the two moving leaders.
 """
 
@@ -55,7 +57,9 @@ def spacing_velocity(
     """Tangential consensus velocity [m/s; E, N] between the previous and next drone (counter-clockwise)."""
     t = np.asarray(tangent_en, dtype=float)
     q = np.asarray(own_en_m, dtype=float)
-    gap_ahead = float(np.linalg.norm(np.asarray(following.position_en_m) - q))
-    gap_behind = float(np.linalg.norm(q - np.asarray(previous.position_en_m)))
+    ahead = np.asarray(following.position_en_m, dtype=float) - q
+    behind = q - np.asarray(previous.position_en_m, dtype=float)
+    gap_ahead = float(np.linalg.norm(ahead)) * (1.0 if float(np.dot(ahead, t)) >= 0.0 else -1.0)
+    gap_behind = float(np.linalg.norm(behind)) * (1.0 if float(np.dot(behind, t)) >= 0.0 else -1.0)
     neighbours_speed = 0.5 * float(np.dot(np.asarray(following.velocity_en_mps) + np.asarray(previous.velocity_en_mps), t))
     return (0.5 * gain_per_s * (gap_ahead - gap_behind) + neighbours_speed) * t
