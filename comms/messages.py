@@ -58,7 +58,8 @@ def _finite(*values: float) -> bool:
 
 
 def _finite_points(points: Iterable[Sequence[float]]) -> bool:
-    return all(math.isfinite(c) for p in points for c in p)
+    """All coordinates finite (one C-level sum: NaN and inf propagate through it)."""
+    return math.isfinite(sum(map(sum, points)))
 
 
 class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
@@ -94,7 +95,9 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     def __post_init__(self) -> None:
         if self.sender_id < 0 or self.seq < 0:
             raise DecodeError("sender_id and seq must be >= 0")
-        if not _finite(self.t_s, *self.position_en_m, self.altitude_m, *self.velocity_en_mps, self.velocity_up_mps, self.yaw_ned_rad):
+        # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
+        p, v = self.position_en_m, self.velocity_en_mps
+        if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):
             raise DecodeError("non-finite state")
         if self.edge_points_en_m and not _finite_points(self.edge_points_en_m):
             raise DecodeError("non-finite edge point")
