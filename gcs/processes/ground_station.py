@@ -290,8 +290,8 @@ class GroundStation:
             if code is None or vid in self._exited_agents:
                 continue
             self._exited_agents.add(vid)
-            if self.phase == "starting":
-                raise MissionFailed(f"agent {vid} failed to start (exit code {code}): {child.log_tail()}")
+            if self.phase in ("starting", "takeoff"):
+                raise MissionFailed(f"agent {vid} failed to start (exit code {code}): {child.log_tail(2)}")
             self.events(f"agent {vid} exited with code {code}")
             self._mark_lost(vid)
 
@@ -310,7 +310,8 @@ class GroundStation:
 
     def _everyone_up(self, watcher: MavlinkWatcher) -> bool:
         heard = all(vid in watcher.vehicles and watcher.vehicles[vid].last_heartbeat_monotonic_s for vid in self.vehicle_ids)
-        return heard and all(self.agent_alive.values()) and self.truth is not None
+        connected = all(vid in self.states for vid in self.vehicle_ids)  # agents publish once their autopilot answers
+        return heard and connected and all(self.agent_alive.values()) and self.truth is not None
 
     def _everyone_in_offboard(self, watcher: MavlinkWatcher) -> bool:
         floor_m = _AIRBORNE_FRACTION * self.scenario.altitude_m
@@ -324,13 +325,13 @@ class GroundStation:
 
     def _startup_problem(self, watcher: MavlinkWatcher) -> str:
         silent = [vid for vid in self.vehicle_ids if vid not in watcher.vehicles]
-        no_agent = [vid for vid, up in self.agent_alive.items() if not up]
+        no_agent = [vid for vid in self.vehicle_ids if not self.agent_alive.get(vid) or vid not in self.states]
         parts = []
         if silent:
             parts.append(f"no MAVLink from vehicles {silent} on GCS port {self.options.gcs_port}: "
                          f"{self.services['sim'].log_tail(2)}")
         if no_agent:
-            parts.append(f"agents {no_agent} did not join Zenoh: {self.agents[no_agent[0]].log_tail(2)}")
+            parts.append(f"agents {no_agent} did not report over Zenoh: {self.agents[no_agent[0]].log_tail(2)}")
         if self.truth is None:
             parts.append("no ground truth from the simulator bridge")
         return f"start-up timed out after {self.options.startup_timeout_s:g} s: " + "; ".join(parts)

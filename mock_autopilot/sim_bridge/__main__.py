@@ -131,7 +131,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 now_s = fleet.clock.now_s()
                 truth = fleet.truth()
                 bridge.tick(now_s, vehicle_truths(truth))
-                setpoint_ages_s.extend(setpoint_ages(fleet, truth, now_s))
+                setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
                 wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
                 stop.wait(min(wait_s, 0.05))
             log.info("bridge sent %d frames and %d truth samples", bridge.frames_sent, bridge.truths_sent)
