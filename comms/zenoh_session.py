@@ -34,6 +34,7 @@ import zenoh
 from comms.latest_buffer import LatestValueBuffer
 
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
+MAX_SAMPLE_BYTES = 32 * 1024 * 1024  # above every message kind's own limit; bounds what a buffer can hold
 _ENDPOINT_RE = re.compile(r"^(tcp|udp|quic|tls|ws|unixsock-stream)/\S+$")
 
 Unpack = Callable[[str, bytes], Iterable[tuple[str, bytes]]]
@@ -133,6 +134,8 @@ class ZenohSession:
         self._publishers: dict[str, Any] = {}
         self._closed = False
         self.callback_errors = 0
+        self.oversized_samples = 0
+        self.dropped_after_close = 0
         _open_sessions.add(self)
 
     def __enter__(self) -> ZenohSession:
@@ -151,7 +154,14 @@ class ZenohSession:
 
     # ---- publishing (call from our own threads, never from a Zenoh callback)
     def put(self, key: str, payload: bytes) -> None:
-        """Publish one payload on a key, through a publisher declared on first use (cheaper on hot keys)."""
+        """Publish one payload on a key, through a publisher declared on first use (cheaper on hot keys).
+
+        After ``close`` (e.g. a worker thread still finishing during shutdown) the payload is dropped and counted
+        in ``dropped_after_close`` instead of raising.
+        """
+        if self._closed:
+            self.dropped_after_close += 1
+            return
         publisher = self._publishers.get(key)
         if publisher is None:
             with self._lock:
@@ -162,20 +172,33 @@ class ZenohSession:
         publisher.put(payload)
 
     def put_once(self, key: str, payload: bytes) -> None:
-        """Publish on a key without keeping a publisher (rare messages on many keys)."""
+        """Publish on a key without keeping a publisher (rare messages on many keys); dropped after ``close``."""
+        if self._closed:
+            self.dropped_after_close += 1
+            return
         self._session.put(key, payload)
 
     # ---- subscribing
-    def subscribe(self, key_expr: str, buffer: LatestValueBuffer | None = None, unpack: Unpack | None = None) -> LatestValueBuffer:
+    def subscribe(
+        self,
+        key_expr: str,
+        buffer: LatestValueBuffer | None = None,
+        unpack: Unpack | None = None,
+        max_payload_bytes: int = MAX_SAMPLE_BYTES,
+    ) -> LatestValueBuffer:
         """One (wildcard) subscriber whose samples land in ``buffer`` (newest per key); returns the buffer.
 
         ``unpack(key, payload) -> [(subkey, payload), ...]`` splits a bundle into several entries inside the
-        callback (it must be cheap and pure); if it raises, the sample is dropped and counted.
+        callback (it must be cheap and pure); if it raises, the sample is dropped and counted. Samples above
+        ``max_payload_bytes`` are dropped before being copied (counted in ``oversized_samples``).
         """
         buf = LatestValueBuffer() if buffer is None else buffer
 
         def on_sample(sample: zenoh.Sample) -> None:
             try:
+                if len(sample.payload) > max_payload_bytes:
+                    self.oversized_samples += 1
+                    return
                 key = str(sample.key_expr)
                 payload = sample.payload.to_bytes()
                 kind = "delete" if sample.kind == zenoh.SampleKind.DELETE else "put"

@@ -211,3 +211,18 @@ def test_table_events_are_published_for_the_ground_station(free_endpoint: Callab
         got: list[PeerEvent] = []
         assert _until(lambda: bool(got.extend(filter(None, (decode(PeerEvent, r.payload) for r in events_buf.drain())))) or bool(got))
         assert got[-1].vehicle_id == 2 and got[-1].event == "stale" and got[-1].observer == "1"
+
+
+def test_put_after_close_is_dropped_and_oversized_samples_are_not_buffered(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as other:
+        buf = hub.subscribe("floodwatch/big/**", max_payload_bytes=1000)
+        time.sleep(0.5)
+        other.put("floodwatch/big/a", b"x" * 1001)
+        other.put("floodwatch/big/b", b"x" * 1000)
+        got: set[str] = set()
+        assert _until(lambda: bool(got.update(r.key for r in buf.drain())) or "floodwatch/big/b" in got)
+        assert got == {"floodwatch/big/b"} and hub.oversized_samples == 1
+    other.put("floodwatch/big/c", b"1")
+    other.put_once("floodwatch/big/c", b"1")
+    assert other.dropped_after_close == 2
