@@ -36,6 +36,9 @@ from comms.radio_model import RadioModel
 from comms.zenoh_session import ZenohConfig, ZenohSession
 
 
+TRUTH_RESTART_S = 5.0
+
+
 @dataclass
 class RelayCounters:
     """Totals since start: messages in, (message, receiver) pairs delivered / lost / out of range, and drops."""
@@ -85,9 +88,10 @@ class RadioRelay:
 
     # ---- inputs
     def on_truth(self, truth: GroundTruth) -> None:
-        """Adopt the newest truth (older ones, by ``t_s``, are ignored). Queued messages are decided first, on
+        """Adopt the newest truth: an older one (by ``t_s``, reordered in transit) is ignored, unless it is older by
+        more than ``TRUTH_RESTART_S`` (the simulator restarted its clock). Queued messages are decided first, on
         the truth they arrived under."""
-        if self.truth_t_s is not None and truth.t_s < self.truth_t_s:
+        if self.truth_t_s is not None and self.truth_t_s - TRUTH_RESTART_S <= truth.t_s < self.truth_t_s:
             return
         self.flush()
         self.truth_t_s = truth.t_s

@@ -84,3 +84,11 @@ def test_newer_truth_wins_older_is_ignored() -> None:
     relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)], t_s=1.0))
     relay.on_state(0, _state(0, 1), 0.0)
     assert relay.pop_due(0.0) == {}
+
+
+def test_truth_from_a_restarted_simulator_is_adopted() -> None:
+    relay = RadioRelay(RadioModel(25.0))
+    relay.on_truth(_truth([(0, 0, 10), (100, 0, 10)], t_s=60.0))
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)], t_s=0.0))  # clock went back by far more than any reordering
+    relay.on_state(0, _state(0, 1), 0.0)
+    assert list(relay.pop_due(0.0)) == [1]
