@@ -80,3 +80,16 @@ def test_a_record_without_polygons_or_leader_gives_nulls_not_errors() -> None:
     assert metrics["summary"]["polygon_iou_final"] is None
     assert metrics["summary"]["leader_centring_error_final_m"] is None
     assert math.isfinite(metrics["summary"]["coverage_final"])
+
+
+@pytest.mark.parametrize("samples", [0, 1, 2])
+def test_empty_and_very_short_records_give_json_not_errors(samples: int) -> None:
+    from mock_autopilot.world.flood_model import ExpandingCircle
+
+    positions = np.ones((samples, 3, 3)) * np.array([[0.0, 0.0, 10.0], [12.0, 0.0, 10.0], [3.0, 3.0, 10.0]])
+    record = MissionRecord("circle", "m", "e", 0, [1, 2, 3], ["leader", "boundary", "follower"],
+                           t_s=np.arange(samples) * 0.1, positions_enu_m=positions)
+    metrics = compute_mission_metrics(record, ExpandingCircle(), 60.0)
+    json.dumps(metrics, allow_nan=False)
+    assert metrics["summary"]["samples"] == samples
+    assert (metrics["summary"]["coverage_final"] is None) == (samples == 0)
