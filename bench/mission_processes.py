@@ -38,6 +38,7 @@ from gcs.scenario import load_scenario  # noqa: E402
 
 _CLK_TCK = os.sysconf("SC_CLK_TCK")
 _RATE_RE = re.compile(r"(\d+) control steps \(([\d.]+|nan) Hz mission time\), (\d+) overruns")
+_FRAMES_RE = re.compile(r"camera frame rate ([\d.]+|nan) Hz per airborne vehicle \(nominal ([\d.]+) Hz")
 _AGE_RE = re.compile(r"setpoint age at the autopilot \[mission s\]: p50 ([\d.]+) p99 ([\d.]+) max ([\d.]+)")
 
 
@@ -101,7 +102,9 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         if match and match.group(2) != "nan":
             rates.append(float(match.group(2)))
             overruns.append(int(match.group(3)))
-    age = _AGE_RE.search((out_dir / "sim.log").read_text(errors="replace")) if (out_dir / "sim.log").exists() else None
+    sim_log = (out_dir / "sim.log").read_text(errors="replace") if (out_dir / "sim.log").exists() else ""
+    age = _AGE_RE.search(sim_log)
+    frames = _FRAMES_RE.search(sim_log)
     metrics_path = out_dir / "metrics.json"
     summary = json.loads(metrics_path.read_text())["summary"] if metrics_path.exists() else {}
     agent_cpu = [v for k, v in cpu_pct.items() if k.startswith("agent_")]
@@ -115,6 +118,8 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         "rate_min_hz": min(rates) if rates else float("nan"),
         "rate_median_hz": statistics.median(rates) if rates else float("nan"),
         "overruns_median": statistics.median(overruns) if overruns else float("nan"),
+        "camera_hz": float(frames.group(1)) if frames else float("nan"),
+        "camera_nominal_hz": float(frames.group(2)) if frames else float("nan"),
         "setpoint_age_p50_s": float(age.group(1)) if age else float("nan"),
         "setpoint_age_p99_s": float(age.group(2)) if age else float("nan"),
         "agent_cpu_pct_median": statistics.median(agent_cpu) if agent_cpu else float("nan"),
@@ -133,8 +138,10 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
 
 
 def holds(row: dict[str, object]) -> bool:
-    """The mission held its speed: it completed and every agent ran at >= 90 % of the nominal control rate."""
-    return row["exit_code"] == 0 and float(row["rate_min_hz"]) >= 0.9 * float(row["nominal_rate_hz"])  # type: ignore[arg-type]
+    """The mission held its speed: it completed, every agent ran at >= 90 % of the nominal control rate, and the
+    simulator delivered >= 90 % of the nominal camera frames."""
+    return (row["exit_code"] == 0 and float(row["rate_min_hz"]) >= 0.9 * float(row["nominal_rate_hz"])  # type: ignore[arg-type]
+            and float(row["camera_hz"]) >= 0.9 * float(row["camera_nominal_hz"]))  # type: ignore[arg-type]
 
 
 def main() -> int:
@@ -158,7 +165,7 @@ def main() -> int:
         row["holds"] = holds(row)
         rows.append(row)
         print(json.dumps(row), flush=True)
-    keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "setpoint_age_p50_s",
+    keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
             "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_rss_mb_median", "sim_cpu_pct", "sim_rss_mb",
             "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",
             "min_pairwise_distance_m"]

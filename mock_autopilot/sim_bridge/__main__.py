@@ -134,7 +134,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                 setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
                 wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
                 stop.wait(min(wait_s, 0.05))
-            log.info("bridge sent %d frames and %d truth samples", bridge.frames_sent, bridge.truths_sent)
+            log.info("bridge sent %d frames and %d truth samples; camera frame rate %.2f Hz per airborne vehicle "
+                     "(nominal %.2f Hz, mission time)", bridge.frames_sent, bridge.truths_sent, bridge.frame_rate_hz(),
+                     camera_hz)
             if setpoint_ages_s:
                 p50, p99 = np.percentile(setpoint_ages_s, [50, 99])
                 log.info("setpoint age at the autopilot [mission s]: p50 %.4f p99 %.4f max %.4f (%d samples)",

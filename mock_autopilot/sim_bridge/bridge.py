@@ -103,6 +103,9 @@ class SimBridge:
         self._frame_seq: dict[int, int] = {}
         self.frames_sent = 0
         self.truths_sent = 0
+        self.airborne_vehicle_s = 0.0
+        """Mission seconds summed over airborne vehicles: frames_sent / airborne_vehicle_s is the achieved frame rate."""
+        self._last_tick_s: float | None = None
         session.declare_alive(self.keys.alive("sim"))
 
     def flood_time_s(self, now_s: float) -> float:
@@ -120,6 +123,10 @@ class SimBridge:
     def tick(self, now_s: float, vehicles: Sequence[VehicleTruth]) -> None:
         """Publish whatever is due at mission time ``now_s`` (call often; it keeps its own schedule)."""
         self._read_commands()
+        if self._last_tick_s is not None:
+            airborne = sum(1 for v in vehicles if v.alive and v.position_enu_m[2] >= MIN_CAMERA_ALTITUDE_M)
+            self.airborne_vehicle_s += airborne * max(0.0, now_s - self._last_tick_s)
+        self._last_tick_s = now_s
         if now_s >= self._next_truth_s:
             self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
             self.truths_sent += 1
@@ -135,6 +142,10 @@ class SimBridge:
                 self.session.put(self.keys.camera(vehicle.vehicle_id), encode(msg))
                 self.frames_sent += 1
             self._next_camera_s = _next_due(self._next_camera_s, self.camera_period_s, now_s)
+
+    def frame_rate_hz(self) -> float:
+        """Achieved camera frames per airborne vehicle per mission second (nominal: 1 / camera_period_s)."""
+        return self.frames_sent / self.airborne_vehicle_s if self.airborne_vehicle_s > 0 else float("nan")
 
     def next_due_s(self) -> float:
         return min(self._next_camera_s, self._next_truth_s)
