@@ -24,6 +24,7 @@ import math
 import signal
 import sys
 import time
+import traceback
 from pathlib import Path
 
 import numpy as np
@@ -132,6 +133,11 @@ class GroundStation:
         except MissionFailed as exc:
             self.events(f"mission failed: {exc}")
             self.console.print(f"[bold red]mission failed:[/] {exc}")
+            code = EXIT_FAILED
+        except Exception as exc:  # noqa: BLE001 - a bug here must still stop every child and keep the record
+            (self.out_dir / "gcs_error.log").write_text(traceback.format_exc())
+            self.events(f"ground station error: {exc!r} (traceback in gcs_error.log)")
+            self.console.print(f"[bold red]ground station error:[/] {exc!r} (traceback in {self.out_dir / 'gcs_error.log'})")
             code = EXIT_FAILED
         finally:
             self.supervisor.stop_all()
@@ -454,6 +460,11 @@ class GroundStation:
         shown = ", ".join(f"{k}={summary[k]:.3f}" if isinstance(summary[k], float) else f"{k}={summary[k]}" for k in keys)
         verdict = "complete" if code == EXIT_OK else "INCOMPLETE"
         self.console.print(f"mission {verdict}: {shown}; outputs in {self.out_dir}")
+        for loss in metrics.get("losses", []):
+            recovery = loss.get("recovery_time_s")
+            recovered = f"spacing CV back under 0.1 after {recovery:.1f} s" if isinstance(recovery, float) else "no recovery"
+            self.console.print(f"  vehicle {loss['vehicle_id']} ({loss['role']}) lost at flood time {loss['t_s']:.1f} s: "
+                               f"{recovered}")
 
 
 def _flood_box(flood, duration_s: float) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
