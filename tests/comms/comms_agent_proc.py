@@ -1,7 +1,8 @@
 """A minimal agent process for the comms tests: publishes its state at a rate, records whom it hears.
 
-Not a test module (no ``test_`` prefix). Prints one JSON line on stdout when it stops (SIGTERM or duration):
-{"id": ..., "heard": {sender: count}, "dead": [...], "first_rx": ..., "sent": n}. Prints "READY" once joined.
+Not a test module (no ``test_`` prefix). Prints "READY" once joined, "DEAD <id>" as soon as it learns a
+neighbour's liveliness token vanished, and one JSON line on stdout when it stops (SIGTERM or duration):
+{"id": ..., "heard": {sender: count}, "dead": [...], "sent": n}.
 """
 
 from __future__ import annotations
@@ -53,6 +54,8 @@ def main() -> int:
             update = link.update_table(table, now - t0)
             heard.update(s.sender_id for s in update.states)
             dead.extend(update.dead)
+            for vid in update.dead:
+                print(f"DEAD {vid}", flush=True)
             link.wait(max(0.0, min(0.01, next_t - time.monotonic())))
     print(json.dumps({"id": a.id, "heard": {str(k): v for k, v in heard.items()}, "dead": dead, "sent": sent}), flush=True)
     return 0
