@@ -119,6 +119,18 @@ def test_readme_mission_command_full_length_real_time(tmp_path: Path, mission_cl
     assert s["polygon_iou_final"] >= 0.85 and s["min_pairwise_distance_m"] >= 1.0  # type: ignore[index]
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize(("scenario", "base"), [("ellipse", 26100), ("nonconvex", 26200), ("drift", 26300)])
+def test_other_scenarios_run_over_processes(tmp_path: Path, scenario: str, base: int) -> None:
+    """Every lockstep scenario also flies here (shortened); the caged polygon still overlaps the true flood."""
+    out = tmp_path / "run"
+    code = run_processes(load_scenario(scenario), _options(out, base, scenario_arg=scenario, duration_s=30.0))
+    assert code == 0, _read(out / "events.log")[-3000:]
+    assert_no_orphans(out)
+    s = json.loads((out / "metrics.json").read_text())["summary"]
+    assert s["polygon_iou_final"] >= 0.8 and s["min_pairwise_distance_m"] >= 1.0
+
+
 def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) -> None:
     """kill -9 of a boundary agent: the GCS reports it within 2 s, its vehicle falls back, the mission completes."""
     out = tmp_path / "run"
