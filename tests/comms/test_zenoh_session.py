@@ -209,8 +209,10 @@ def test_table_events_are_published_for_the_ground_station(free_endpoint: Callab
         table.expire(1.0)
         assert link.report_events(table.take_events(), observer="1") == 2
         got: list[PeerEvent] = []
-        assert _until(lambda: bool(got.extend(filter(None, (decode(PeerEvent, r.payload) for r in events_buf.drain())))) or bool(got))
+        assert _until(lambda: bool(got.extend(filter(None, (decode(PeerEvent, r.payload) for r in events_buf.drain()))))
+                      or any(e.event == "stale" for e in got))
         assert got[-1].vehicle_id == 2 and got[-1].event == "stale" and got[-1].observer == "1"
+        assert {e.event for e in got} <= {"alive", "stale"}
 
 
 def test_put_after_close_is_dropped_and_oversized_samples_are_not_buffered(free_endpoint: Callable[[], str]) -> None:
