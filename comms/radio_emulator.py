@@ -6,8 +6,8 @@ process that owns the truth stream and every link also gives one place for seede
 counters, and the agents stay unchanged for a real deployment (there the emulator is simply not started and
 agents subscribe to each other's public state keys, see ``comms.swarm_link``).
 
-Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioModel.send`` on the latest
-``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> ``DeliveryQueue`` (latency/jitter) -> one ``RadioBundle`` per
+Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioModel.send_many`` (one batch per tick) on the latest
+``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> held in flight (latency/jitter) -> one ``RadioBundle`` per
 receiver per tick on ``floodwatch/<m>/radio/<rid>/inbox``.
 
 ``RadioRelay`` is the logic without Zenoh or clocks (time is passed in); ``RadioEmulator`` is the thin shell that

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from comms.delivery_queue import DeliveryQueue
 from comms.radio_model import RadioModel, uniform_draw
 
 
@@ -117,16 +116,6 @@ def test_uniform_draw_is_uniform() -> None:
 def test_bad_parameters_are_rejected(kwargs: dict) -> None:
     with pytest.raises(ValueError):
         RadioModel(**kwargs)
-
-
-def test_delivery_queue_releases_in_time_order_and_is_bounded() -> None:
-    q: DeliveryQueue[str] = DeliveryQueue(max_items=3)
-    assert q.push(0.3, 1, "c") and q.push(0.1, 2, "a") and q.push(0.2, 1, "b")
-    assert not q.push(0.0, 1, "overflow") and q.overflow_count == 1
-    assert q.next_delivery_t_s() == 0.1
-    assert q.pop_due(0.15) == [(0.1, 2, "a")]
-    assert [x[2] for x in q.pop_due(1.0)] == ["b", "c"]
-    assert q.pop_due(2.0) == [] and q.next_delivery_t_s() is None
 
 
 def test_send_many_agrees_with_single_sends() -> None:

@@ -92,3 +92,16 @@ def test_truth_from_a_restarted_simulator_is_adopted() -> None:
     relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)], t_s=0.0))  # clock went back by far more than any reordering
     relay.on_state(0, _state(0, 1), 0.0)
     assert list(relay.pop_due(0.0)) == [1]
+
+
+def test_in_flight_messages_are_bounded() -> None:
+    relay = RadioRelay(RadioModel(25.0, latency_s=1.0), max_in_flight=5)
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10), (2, 0, 10), (3, 0, 10)]))
+    relay.on_state(0, _state(0, 1), 0.0)  # 3 receivers
+    relay.on_state(1, _state(1, 1), 0.0)  # 3 more: only 2 fit
+    relay.flush()
+    assert relay.counters.queue_overflow == 1 and relay.counters.delivered == 6
+    got = relay.pop_due(2.0)
+    assert sum(len(v) for v in got.values()) == 5
+    relay.on_state(2, _state(2, 1), 2.0)  # room again after delivery
+    assert sum(len(v) for v in relay.pop_due(4.0).values()) == 3
