@@ -37,6 +37,7 @@ from comms.zenoh_session import ZenohConfig, ZenohSession
 
 
 TRUTH_RESTART_S = 5.0
+AGENT_RESTART_S = 1.0  # a lower seq with a source time this much newer is a restarted agent, not a stale message
 
 
 @dataclass
@@ -48,7 +49,7 @@ class RelayCounters:
     lost: int = 0
     out_of_range: int = 0
     rejected: int = 0  # undecodable, or sender_id differing from the key's id (spoofing)
-    ignored_old: int = 0  # seq not newer than the last one forwarded for that sender
+    ignored_old: int = 0  # seq not newer than the last one forwarded for that sender (unless the agent restarted)
     no_truth: int = 0  # no truth yet, or the sender is not in the truth (unknown or dead vehicle)
     queue_overflow: int = 0
 
@@ -78,7 +79,7 @@ class RadioRelay:
         self._alive_count = 0
         self._ids = np.zeros(0, dtype=np.int64)
         self._slot_of: dict[int, int] = {}
-        self._last_seq: dict[int, int] = {}
+        self._last_seq: dict[int, tuple[int, float]] = {}  # sender -> (seq, t_s) of the last one accepted
         self.truth_t_s: float | None = None
         self._link_delivered = np.zeros((0, 0), dtype=np.int64)
         self._link_lost = np.zeros((0, 0), dtype=np.int64)
@@ -110,10 +111,10 @@ class RadioRelay:
             return None
         sid = state.sender_id
         last = self._last_seq.get(sid)
-        if last is not None and state.seq <= last:
+        if last is not None and state.seq <= last[0] and state.t_s <= last[1] + AGENT_RESTART_S:
             self.counters.ignored_old += 1
             return None
-        self._last_seq[sid] = state.seq
+        self._last_seq[sid] = (state.seq, state.t_s)
         slot = self._slot_of.get(sid)
         if self._positions is None or slot is None or not np.isfinite(self._positions[slot]).all():
             self.counters.no_truth += 1

@@ -105,3 +105,17 @@ def test_in_flight_messages_are_bounded() -> None:
     assert sum(len(v) for v in got.values()) == 5
     relay.on_state(2, _state(2, 1), 2.0)  # room again after delivery
     assert sum(len(v) for v in relay.pop_due(4.0).values()) == 3
+
+
+def test_restarted_agent_with_seq_from_zero_is_forwarded_again() -> None:
+    relay = RadioRelay(RadioModel(25.0))
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)]))
+
+    def state(seq: int, t_s: float) -> bytes:
+        return encode(NeighbourState(sender_id=0, role="boundary", seq=seq, t_s=t_s, position_en_m=(0.0, 0.0), altitude_m=10.0))
+
+    relay.on_state(0, state(500, 25.0), 0.0)
+    relay.on_state(0, state(499, 24.95), 0.0)  # reordered: dropped
+    relay.on_state(0, state(0, 30.0), 0.0)  # the agent restarted 5 s later: forwarded
+    assert relay.counters.ignored_old == 1
+    assert [len(v) for v in relay.pop_due(0.0).values()] == [2]
