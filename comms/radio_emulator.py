@@ -1,6 +1,6 @@
 """The central radio emulator: forwards each agent's state only to the agents within radio range.
 
-Why central (like MOOS-IvP's ``pMarineViewer``/``uFldNodeComms`` and Gazebo's RF comms plugin): range must be
+Why central (like MOOS-IvP's ``uFldNodeComms`` and Gazebo's RF comms plugin): range must be
 decided on the simulator's TRUE positions (SPEC §4), which no agent has and none may be trusted to report; one
 process that owns the truth stream and every link also gives one place for seeded loss/latency/jitter and per-link
 counters, and the agents stay unchanged for a real deployment (there the emulator is simply not started and
