@@ -8,7 +8,7 @@ layer, the launch site and pad spacing), the camera (``[camera]``), the radio (`
 Pads (SPEC §4): all vehicles start from one launch site, pads ``pad_spacing_m`` apart. The boundary drones stand in
 a column along the edge tangent through the launch point, group A on the counter-clockwise side (rank 0 furthest,
 it leads), group B on the clockwise side; the leader and the followers stand in columns behind them, away from
-the flood. ``launch_en_m = "auto"`` puts the launch site just outside the initial edge (see :func:`auto_launch`).
+the flood, the leader in the middle of the first column (nearest the line it will fly in on). ``launch_en_m = "auto"`` puts the launch site just outside the initial edge (see :func:`auto_launch`).
 Any error raises :class:`ScenarioError` whose one-line message names the field.
 """
 
@@ -238,8 +238,12 @@ def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
     boundary_b = [v for v in vehicles if v.group == "B"]
     ring = [*sorted(boundary_b, key=lambda v: v.rank), *sorted(boundary_a, key=lambda v: -v.rank)]
     column_len = 2 * per_group
-    inner_slots = [(1 + k // column_len, spacing * ((k % column_len) - (column_len - 1) / 2.0))
-                   for k in range(leaders + sum(layers_raw))]
+    inner_count = leaders + sum(layers_raw)
+    inner_slots = sorted(
+        ((1 + k // column_len, spacing * ((k % column_len) - (column_len - 1) / 2.0))
+         for k in range(inner_count + column_len)),
+        key=lambda slot: (slot[0], abs(slot[1]), slot[1]),
+    )[:inner_count]
     slot = 0
     for _ in range(leaders):
         vehicles.append(VehicleSpec(next_id, ROLE_LEADER, pad(*inner_slots[slot]), gps in ("leader", "all")))

@@ -4,7 +4,7 @@ wrapped in Algorithm 1 (climb while only land or only water is in view).
 Paper mode: every drone of a group flies u_c until it knows the ring is closed; spacing comes from β alone
 (among boundary drones heard, eq 6). Improved mode: only each group's leading drone flies u_c (at a faster
 speed); the others keep equal gaps to their ring neighbours (:mod:`ring_spacing`), and a short-range push from
-every heard vehicle (:mod:`safety`) replaces β.
+every heard boundary drone (:mod:`safety`: followers and the leader give way) replaces β.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from vehicle_agents.control.encircle import (
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.ring_spacing import ring_neighbours, spacing_velocity
-from vehicle_agents.control.safety import safety_velocity
+from vehicle_agents.control.safety import safety_velocity, yielded_to
 from vehicle_agents.control.types import ROLE_BOUNDARY, NeighbourInfo, OwnState
 from vehicle_agents.control.vision_tracking import altitude_rate_mps, tracked_offset_en_m, tracking_velocity
 from vehicle_agents.perception.result import PerceptionResult
@@ -84,7 +84,8 @@ def boundary_step(
         velocity += (_SEARCH_SPEED_MPS if perception.only_water else -_SEARCH_SPEED_MPS) * normal
 
     if improved:
-        velocity += safety_velocity(q, _positions(neighbours), params.safety_radius_m, params.safety_gain_mps)
+        velocity += safety_velocity(q, _positions(yielded_to(ROLE_BOUNDARY, neighbours)), params.safety_radius_m,
+                                    params.safety_gain_mps)
         heard = {n.vehicle_id: n for n in boundary_nbrs}
         previous, following = ring_neighbours(entry.vehicle_id, params.ring_order(), heard, encircled)
         ahead = following if sign > 0 else previous

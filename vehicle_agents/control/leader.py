@@ -17,8 +17,8 @@ from numpy.typing import NDArray
 
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.safety import safety_velocity
-from vehicle_agents.control.types import ROLE_BOUNDARY, NeighbourInfo, OwnState
+from vehicle_agents.control.safety import safety_velocity, yielded_to
+from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_LEADER, NeighbourInfo, OwnState
 
 
 def polygon_area_centroid(points_en_m: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -54,7 +54,7 @@ def leader_step(
         velocity = np.asarray(params.k_leader_per_s) * (target - q) + vb.mean(axis=0)
         radius = float(np.mean(np.hypot(qb[:, 0] - target[0], qb[:, 1] - target[1])))
     if params.mode == "improved":
-        others = np.array([n.position_en_m for n in neighbours], dtype=float).reshape(-1, 2)
+        others = np.array([n.position_en_m for n in yielded_to(ROLE_LEADER, neighbours)], dtype=float).reshape(-1, 2)
         velocity = velocity + safety_velocity(q, others, params.safety_radius_m, params.safety_gain_mps)
     speed = float(np.hypot(velocity[0], velocity[1]))
     if speed > params.max_speed_mps:

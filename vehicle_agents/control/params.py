@@ -78,10 +78,10 @@ class ControlParams:
     """A layer of footprints covers this fraction of a footprint side radially (for the layer-release test)."""
     spacing_gain_per_s: float = 0.8
     """Improved: gain of the equal-gap consensus along the ring."""
-    safety_radius_m: float = 4.0
+    safety_radius_m: float = 5.0
     """Improved: every role pushes away from any vehicle closer than this."""
     safety_gain_mps: float = 3.0
-    safety_min_distance_m: float = 2.0
+    safety_min_distance_m: float = 2.5
     """Improved: the barrier filter never lets a command close a gap below this."""
     safety_closing_rate_per_s: float = 1.0
     edge_point_tracking: bool = False

@@ -1,15 +1,33 @@
 """Improved mode: collision-aware separation between ALL roles.
 
 The paper separates boundary drones from boundary drones (eq 6) and followers from followers (eq 10) only; a
-follower and the leader, or a boundary drone and a follower, never push each other. Here every vehicle heard
-within ``radius_m`` pushes this one away with ``gain · (1 − x/radius)²`` m/s, strong enough near contact to beat
+follower and the leader, or a boundary drone and a follower, never push each other. Here every vehicle heard of
+the same or a higher right of way (:data:`RIGHT_OF_WAY`) within ``radius_m`` pushes this one away with
+``gain · (1 − x/radius)²`` m/s, strong enough near contact to beat
 the tracking terms, zero at the radius.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numpy.typing import NDArray
+
+from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER, NeighbourInfo
+
+RIGHT_OF_WAY = {ROLE_BOUNDARY: 0, ROLE_LEADER: 1, ROLE_FOLLOWER: 2}
+"""Lower number = right of way. Boundary drones hold the cage, the leader the centre; followers make room."""
+
+
+def yielded_to(own_role: str, neighbours: Sequence[NeighbourInfo]) -> list[NeighbourInfo]:
+    """The neighbours this drone must keep clear of: those of its own or a higher right of way.
+
+    Without this, a crowd of followers round the launch site boxes in the leader and the boundary drones (each
+    pushing against everyone, nobody moves); with it, followers step aside and the others fly through.
+    """
+    mine = RIGHT_OF_WAY.get(own_role, 2)
+    return [n for n in neighbours if RIGHT_OF_WAY.get(n.role, 2) <= mine]
 
 
 def safety_velocity(
@@ -35,12 +53,15 @@ def safety_filter(
     min_distance_m: float,
     radius_m: float,
     closing_rate_per_s: float,
+    others_velocity_en_mps: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """Limit the speed towards each close neighbour so that the gap can never close below ``min_distance_m``.
 
     For a neighbour at distance x < ``radius_m`` in direction u, the component of the command along u is capped at
-    ``closing_rate_per_s · (x − min_distance_m)`` (negative inside the minimum: move away). A control-barrier
-    style filter, applied neighbour by neighbour, nearest last so that it has the final word.
+    ``closing_rate_per_s · (x − min_distance_m) + v_h · u`` (negative inside the minimum: move away), where v_h is
+    the neighbour's velocity when it is not expected to cooperate (a vehicle with the right of way: this drone
+    takes the whole responsibility), zero for a peer. A control-barrier style filter, applied neighbour by
+    neighbour, nearest last so that it has the final word.
     """
     v = np.asarray(velocity_en_mps, dtype=float).copy()
     others = np.asarray(others_en_m, dtype=float).reshape(-1, 2)
@@ -54,6 +75,8 @@ def safety_filter(
             continue
         u = diff[k] / x
         allowed = closing_rate_per_s * (x - min_distance_m)
+        if others_velocity_en_mps is not None:
+            allowed += float(np.dot(others_velocity_en_mps[k], u))
         along = float(np.dot(v, u))
         if along > allowed:
             v -= (along - allowed) * u

@@ -7,6 +7,7 @@ output is a velocity setpoint in mission ENU and the drone's new control memory.
 
 from __future__ import annotations
 
+import math
 from typing import Sequence
 
 import numpy as np
@@ -16,7 +17,7 @@ from vehicle_agents.control.follower import follower_step
 from vehicle_agents.control.leader import leader_step
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams, RosterEntry
-from vehicle_agents.control.safety import safety_filter
+from vehicle_agents.control.safety import RIGHT_OF_WAY, safety_filter, yielded_to
 from vehicle_agents.control.types import (
     ROLE_BOUNDARY,
     ROLE_FOLLOWER,
@@ -41,10 +42,11 @@ def initial_memory(role: str, vehicle_id: int, params: ControlParams) -> Control
 
 
 def usable_neighbours(own_id: int, neighbours: Sequence[NeighbourInfo], timeout_s: float) -> list[NeighbourInfo]:
-    """Neighbours other than oneself, heard within ``timeout_s``, with finite positions."""
+    """Neighbours other than oneself, heard within ``timeout_s``, with finite positions and velocities."""
     return [
         n for n in neighbours
-        if n.vehicle_id != own_id and n.age_s <= timeout_s and np.all(np.isfinite(n.position_en_m))
+        if n.vehicle_id != own_id and n.age_s <= timeout_s
+        and math.isfinite(n.position_en_m[0] + n.position_en_m[1] + n.velocity_en_mps[0] + n.velocity_en_mps[1])
     ]
 
 
@@ -60,7 +62,8 @@ def control_step(
     """One control step of ``role``: boundary (eq 8, Algorithm 1), leader (eq 9) or follower (eq 10).
 
     The yaw is held at north (0 rad NED) so that camera footprints stay axis-aligned squares. Improved mode
-    passes the command through the collision barrier of :func:`safety.safety_filter` against every heard vehicle.
+    passes the command through the collision barrier of :func:`safety.safety_filter` against every heard vehicle
+    it must keep clear of (same or higher right of way).
     """
     heard = usable_neighbours(memory.vehicle_id, neighbours, params.neighbour_timeout_s)
     if role == ROLE_BOUNDARY:
@@ -71,10 +74,14 @@ def control_step(
         velocity, memory = follower_step(memory, own, heard, params, t_s)
     else:
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
-    if params.mode == "improved" and heard:
-        others = np.array([n.position_en_m for n in heard], dtype=float).reshape(-1, 2)
+    obstacles = yielded_to(role, heard) if params.mode == "improved" else []
+    if obstacles:
+        mine = RIGHT_OF_WAY.get(role, 2)
+        others = np.array([n.position_en_m for n in obstacles], dtype=float).reshape(-1, 2)
+        others_v = np.array([n.velocity_en_mps if RIGHT_OF_WAY.get(n.role, 2) < mine else (0.0, 0.0) for n in obstacles],
+                            dtype=float).reshape(-1, 2)
         velocity[:2] = safety_filter(velocity[:2], own.position_en_m, others, params.safety_min_distance_m,
-                                     params.safety_radius_m, params.safety_closing_rate_per_s)
+                                     params.safety_radius_m, params.safety_closing_rate_per_s, others_v)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)
     return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory

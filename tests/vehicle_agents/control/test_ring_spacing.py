@@ -42,3 +42,10 @@ def test_chain_converges_to_equal_gaps() -> None:
             v[i] = spacing_velocity(np.array([x[i], 0.0]), np.array([1.0, 0.0]), _nb(0, (x[i - 1], 0.0)), _nb(0, (x[i + 1], 0.0)), 0.8)[0]
         x = x + 0.1 * v
     assert np.allclose(np.diff(x), 2.5, atol=0.01)
+
+
+def test_neighbour_on_the_wrong_side_gives_a_negative_gap() -> None:
+    # the "next" drone is behind me along the tangent (order scrambled at launch): move back past it
+    t = np.array([1.0, 0.0])
+    v = spacing_velocity(np.array([0.0, 0.0]), t, _nb(1, (-3.0, 0.0)), _nb(2, (-1.0, 0.0)), 1.0)
+    assert v[0] < 0.0
