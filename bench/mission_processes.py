@@ -150,12 +150,14 @@ def main() -> int:
     p.add_argument("--mode", default="improved")
     p.add_argument("--speeds", default="1,2,4")
     p.add_argument("--duration", type=float, default=30.0)
-    p.add_argument("--sizes", default="", help="boundary drones per group to try (fleet scaling, at the first speed)")
+    p.add_argument("--sizes", default="", help="boundary drones per group to try, ascending (fleet scaling at the first "
+                   "speed; one follower layer of the same size); replaces the plain speed runs")
     p.add_argument("--out", type=Path, default=Path("runs/bench-processes"))
     args = p.parse_args()
     rows = []
-    runs: list[tuple[float, tuple[str, ...]]] = [(float(s), ()) for s in args.speeds.split(",") if s]
-    for size in [int(s) for s in args.sizes.split(",") if s]:
+    sizes = [int(s) for s in args.sizes.split(",") if s]
+    runs: list[tuple[float, tuple[str, ...]]] = [] if sizes else [(float(s), ()) for s in args.speeds.split(",") if s]
+    for size in sizes:
         followers = max(1, size)
         runs.append((float(args.speeds.split(",")[0]), (f"fleet.boundary_per_group={size}",
                                                           f"fleet.follower_layers=[{followers}]")))
@@ -165,6 +167,8 @@ def main() -> int:
         row["holds"] = holds(row)
         rows.append(row)
         print(json.dumps(row), flush=True)
+        if overrides and not row["holds"]:
+            break  # fleet scaling: sizes go up, the first one that does not hold ends the search
     keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
             "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_rss_mb_median", "sim_cpu_pct", "sim_rss_mb",
             "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",

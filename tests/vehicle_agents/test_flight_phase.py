@@ -70,3 +70,9 @@ def test_mode_taken_away_stops_commanding() -> None:
 
 def test_stop_command_exits_from_anywhere() -> None:
     assert step(Phase.PREFLIGHT, FRESH, Command.STOP) == (Phase.DONE, Action.EXIT)
+
+
+def test_on_the_ground_the_link_gets_more_patience() -> None:
+    tel = replace(FRESH, ready_to_arm=False)
+    assert step(Phase.PREFLIGHT, tel, now_s=105.0) == (Phase.PREFLIGHT, Action.NONE)
+    assert step(Phase.PREFLIGHT, tel, now_s=111.0) == (Phase.LINK_LOST, Action.EXIT)
