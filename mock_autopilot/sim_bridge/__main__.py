@@ -24,7 +24,7 @@ from gcs.scenario import Scenario, ScenarioError, load_scenario
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.faults import FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet, FleetTruth
-from mock_autopilot.sim_bridge.bridge import SimBridge, VehicleTruth
+from mock_autopilot.sim_bridge.bridge import SimBridge, VehicleTruth, camera_users
 from mock_autopilot.vehicle import VehicleConfig
 from mock_autopilot.world.config import flood_model_from_config
 
@@ -79,6 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--gcs-port", type=int, default=14550)
     p.add_argument("--camera-hz", type=float, help="camera frame rate in mission time (default: the control rate)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
+    p.add_argument("--cameras", choices=("boundary", "all"), default="boundary",
+                   help="whose camera is streamed: the boundary drones (the only law that uses images) or all")
     p.add_argument("--fault", action="append", default=[], metavar="KIND:INSTANCE[:VALUE]@T",
                    help="scheduled fault (see python -m mock_autopilot --help)")
     p.add_argument("--log-level", default="INFO")
@@ -122,8 +124,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"sim_bridge: {exc}", file=sys.stderr)
             return 1
         with session:
+            cameras = camera_users({v.vehicle_id: v.role for v in scenario.vehicles}, args.cameras)
             bridge = SimBridge(session, mission, flood, camera, scenario.seed, 1.0 / camera_hz, 1.0 / truth_hz,
-                               on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
+                               on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t),
+                               camera_vehicle_ids=cameras)
             log.info("fleet of %d vehicles up (speed x%g), bridge publishing on floodwatch/%s",
                      len(scenario.vehicles), args.speed, mission)
             setpoint_ages_s: list[float] = []

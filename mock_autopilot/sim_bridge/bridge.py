@@ -74,6 +74,21 @@ def camera_frame_message(
     )
 
 
+CAMERA_ROLES = ("boundary",)
+"""Roles whose control law looks at the camera: only the boundary drones' (eqs 4-8, Algorithm 1). The leader (eq 9)
+and the followers (eq 10) fly on radio messages alone, so streaming their video would only burn CPU; the coverage
+metric uses their true footprints either way."""
+
+
+def camera_users(roles: dict[int, str], which: str = "boundary") -> set[int] | None:
+    """Vehicle ids whose camera is streamed: ``"boundary"`` (the roles in :data:`CAMERA_ROLES`) or ``"all"``."""
+    if which == "all":
+        return None
+    if which != "boundary":
+        raise ValueError(f"--cameras {which!r}: use boundary or all")
+    return {vid for vid, role in roles.items() if role in CAMERA_ROLES}
+
+
 class SimBridge:
     """Publishes truth every ``truth_period_s`` and camera frames every ``camera_period_s`` (mission seconds)."""
 
@@ -87,7 +102,9 @@ class SimBridge:
         camera_period_s: float,
         truth_period_s: float,
         on_flood_start: Callable[[float], None] | None = None,
+        camera_vehicle_ids: set[int] | None = None,
     ) -> None:
+        """``camera_vehicle_ids``: the vehicles whose camera is streamed (None: all); see :func:`camera_users`."""
         self.session = session
         self.keys = MissionKeys(mission)
         self.flood = flood
@@ -96,6 +113,7 @@ class SimBridge:
         self.camera_period_s = camera_period_s
         self.truth_period_s = truth_period_s
         self.flood_clock_start_s: float | None = None
+        self.camera_vehicle_ids = camera_vehicle_ids
         self._on_flood_start = on_flood_start
         self._commands = session.subscribe(self.keys.command)
         self._next_camera_s = 0.0
@@ -124,7 +142,8 @@ class SimBridge:
         """Publish whatever is due at mission time ``now_s`` (call often; it keeps its own schedule)."""
         self._read_commands()
         if self._last_tick_s is not None:
-            airborne = sum(1 for v in vehicles if v.alive and v.position_enu_m[2] >= MIN_CAMERA_ALTITUDE_M)
+            airborne = sum(1 for v in vehicles if v.alive and v.position_enu_m[2] >= MIN_CAMERA_ALTITUDE_M
+                           and (self.camera_vehicle_ids is None or v.vehicle_id in self.camera_vehicle_ids))
             self.airborne_vehicle_s += airborne * max(0.0, now_s - self._last_tick_s)
         self._last_tick_s = now_s
         if now_s >= self._next_truth_s:
@@ -135,6 +154,8 @@ class SimBridge:
             flood_t_s = self.flood_time_s(now_s)
             for vehicle in vehicles:
                 if not vehicle.alive or vehicle.position_enu_m[2] < MIN_CAMERA_ALTITUDE_M:
+                    continue
+                if self.camera_vehicle_ids is not None and vehicle.vehicle_id not in self.camera_vehicle_ids:
                     continue
                 seq = self._frame_seq.get(vehicle.vehicle_id, 0) + 1
                 self._frame_seq[vehicle.vehicle_id] = seq

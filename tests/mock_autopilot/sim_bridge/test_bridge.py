@@ -59,3 +59,22 @@ def test_bridge_publishes_truth_frames_and_follows_flood_clock() -> None:
             time.sleep(0.05)
         assert bridge.flood_clock_start_s == 3.0
         assert bridge.flood_time_s(10.0) == pytest.approx(7.0)
+
+
+def test_only_camera_users_get_frames() -> None:
+    from mock_autopilot.sim_bridge.bridge import camera_users
+
+    roles = {1: "boundary", 2: "leader", 3: "follower", 4: "boundary"}
+    assert camera_users(roles) == {1, 4}
+    assert camera_users(roles, "all") is None
+    keys = MissionKeys("bridgecams")
+    with ZenohSession(ZenohConfig.hub("tcp/127.0.0.1:25702")) as hub, ZenohSession(ZenohConfig.member("tcp/127.0.0.1:25702")) as sim:
+        cam_buf = hub.subscribe(keys.all_cameras)
+        time.sleep(0.5)
+        bridge = SimBridge(sim, "bridgecams", ExpandingCircle(), CameraModel(), seed=1, camera_period_s=0.1,
+                           truth_period_s=0.1, camera_vehicle_ids={1})
+        bridge.tick(0.0, [_vehicle(1, 12.0, 10.0), _vehicle(2, 0.0, 10.0)])
+        got = _drain_until(cam_buf, lambda g: len(g) >= 1)
+        time.sleep(0.3)
+        got += cam_buf.drain()
+        assert sorted(decode(CameraFrame, r.payload).vehicle_id for r in got) == [1]
