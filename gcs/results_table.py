@@ -15,7 +15,8 @@ import math
 import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -107,28 +108,63 @@ def _targets_table(seed_rows: Sequence[Row]) -> list[str]:
     return lines
 
 
-def build_results(scenarios: Sequence[str], seeds: Sequence[int], log: Callable[[str], None]) -> dict[str, list[Row]]:
-    """Run everything; returns the rows of the three tables."""
-    results: dict[str, list[Row]] = {"seeds": [], "scenarios": [], "pdot": []}
-    circle = load_scenario("circle")
-    for mode in ("paper", "improved"):
-        for seed in seeds:
-            results["seeds"].append(run_row(circle, mode, seed=seed))
-            log(f"circle {mode} seed {seed}: done")
+@dataclass(frozen=True)
+class Job:
+    """One run of the table: which scenario, mode, seed, and parameter changes; ``table`` names its table."""
+
+    table: str
+    scenario: str
+    mode: str
+    seed: int | None = None
+    label: str | None = None
+    pdot_reading: str | None = None
+
+
+def run_job(job: Job) -> Row:
+    """Run one job (in this process or a worker)."""
+    changes = {"pdot_reading": job.pdot_reading} if job.pdot_reading is not None else {}
+    row = run_row(load_scenario(job.scenario), job.mode, seed=job.seed, label=job.label, **changes)
+    row["table"] = job.table
+    return row
+
+
+def plan_jobs(scenarios: Sequence[str], seeds: Sequence[int]) -> list[Job]:
+    """Every run the three tables need (the circle's own-seed scenario row reuses its seed run)."""
+    circle_seed = load_scenario("circle").seed
+    jobs = [Job("seeds", "circle", mode, seed) for mode in ("paper", "improved") for seed in seeds]
     for name in scenarios:
-        scenario = load_scenario(name)
+        if name == "circle" and circle_seed in seeds:
+            continue
+        jobs += [Job("scenarios", name, mode) for mode in ("paper", "improved")]
+    jobs += [Job("pdot", "circle", mode, circle_seed, f"{mode}, ṗ {reading}", reading)
+             for mode in ("paper", "improved") for reading in ("normal", "full", "none")]
+    return jobs
+
+
+def build_results(scenarios: Sequence[str], seeds: Sequence[int], log: Callable[[str], None], jobs: int = 1) -> dict[str, list[Row]]:
+    """Run everything (``jobs`` worker processes); returns the rows of the three tables."""
+    plan = plan_jobs(scenarios, seeds)
+    rows: list[Row] = []
+    if jobs <= 1:
+        for job in plan:
+            rows.append(run_job(job))
+            log(f"{job.scenario} {job.label or job.mode} seed {job.seed}: {rows[-1]['wall_s']:.1f} s wall")
+    else:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            for job, row in zip(plan, pool.map(run_job, plan)):
+                rows.append(row)
+                log(f"{job.scenario} {job.label or job.mode} seed {job.seed}: {row['wall_s']:.1f} s wall")
+    results: dict[str, list[Row]] = {"seeds": [], "scenarios": [], "pdot": []}
+    for row in rows:
+        results[row["table"]].append(row)
+    circle_seed = load_scenario("circle").seed
+    ordered: list[Row] = []
+    for name in scenarios:
         for mode in ("paper", "improved"):
-            if name == "circle" and scenario.seed in seeds:
-                row = next(r for r in results["seeds"] if r["mode"] == mode and r["seed"] == scenario.seed)
-            else:
-                row = run_row(scenario, mode)
-            results["scenarios"].append(row)
-            log(f"{name} {mode}: {row['wall_s']:.1f} s wall")
-    for mode in ("paper", "improved"):
-        for reading in ("normal", "full", "none"):
-            label = f"{mode}, ṗ {reading}"
-            results["pdot"].append(run_row(circle, mode, seed=circle.seed, label=label, pdot_reading=reading))
-            log(f"circle {label}: done")
+            pool_rows = results["seeds"] if name == "circle" and circle_seed in seeds else results["scenarios"]
+            ordered += [r for r in pool_rows if r["scenario"] == name and r["mode"] == mode
+                        and (pool_rows is results["scenarios"] or r["seed"] == circle_seed)]
+    results["scenarios"] = ordered
     return results
 
 
@@ -179,6 +215,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path("docs/RESULTS.md"))
     parser.add_argument("--scenarios", nargs="*", default=None, help="default: every bundled scenario")
     parser.add_argument("--seeds", type=int, nargs="*", default=[1, 2, 3, 4, 5])
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     ns = parser.parse_args(argv)
     names = ns.scenarios if ns.scenarios is not None else scenario_names()
     unknown = [n for n in names if n not in scenario_names()]
@@ -186,7 +223,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"gcs.results_table: unknown scenario {unknown[0]!r}", file=sys.stderr)
         return 2
     start = time.perf_counter()
-    results = build_results(names, ns.seeds, lambda msg: print(msg, file=sys.stderr, flush=True))
+    results = build_results(names, ns.seeds, lambda msg: print(msg, file=sys.stderr, flush=True), ns.jobs)
     command = "python -m gcs.results_table" + ("" if argv is None else " " + " ".join(argv))
     if argv is None and len(sys.argv) > 1:
         command = "python -m gcs.results_table " + " ".join(sys.argv[1:])

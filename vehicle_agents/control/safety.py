@@ -59,8 +59,8 @@ def safety_filter(
 
     For a neighbour at distance x < ``radius_m`` in direction u, the component of the command along u is capped at
     ``closing_rate_per_s · (x − min_distance_m) + v_h · u`` (negative inside the minimum: move away), where v_h is
-    the neighbour's velocity when it is not expected to cooperate (a vehicle with the right of way: this drone
-    takes the whole responsibility), zero for a peer. A control-barrier style filter, applied neighbour by
+    the neighbour's last heard velocity: this drone alone keeps the closing speed within the barrier, whatever the
+    other does (a peer doing the same only adds margin). A control-barrier style filter, applied neighbour by
     neighbour, nearest last so that it has the final word.
     """
     v = np.asarray(velocity_en_mps, dtype=float).copy()

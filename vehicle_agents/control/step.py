@@ -17,7 +17,7 @@ from vehicle_agents.control.follower import follower_step
 from vehicle_agents.control.leader import leader_step
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams, RosterEntry
-from vehicle_agents.control.safety import RIGHT_OF_WAY, safety_filter, yielded_to
+from vehicle_agents.control.safety import safety_filter, yielded_to
 from vehicle_agents.control.types import (
     ROLE_BOUNDARY,
     ROLE_FOLLOWER,
@@ -76,10 +76,8 @@ def control_step(
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
     obstacles = yielded_to(role, heard) if params.mode == "improved" else []
     if obstacles:
-        mine = RIGHT_OF_WAY.get(role, 2)
         others = np.array([n.position_en_m for n in obstacles], dtype=float).reshape(-1, 2)
-        others_v = np.array([n.velocity_en_mps if RIGHT_OF_WAY.get(n.role, 2) < mine else (0.0, 0.0) for n in obstacles],
-                            dtype=float).reshape(-1, 2)
+        others_v = np.array([n.velocity_en_mps for n in obstacles], dtype=float).reshape(-1, 2)
         velocity[:2] = safety_filter(velocity[:2], own.position_en_m, others, params.safety_min_distance_m,
                                      params.safety_radius_m, params.safety_closing_rate_per_s, others_v)
     if not np.all(np.isfinite(velocity)):
