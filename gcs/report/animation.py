@@ -71,10 +71,11 @@ def write_animation(
     coverage = _coverage_lookup(metrics)
 
     dpi = 100
-    fig = Figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
+    big_fleet = len(record.vehicle_ids) > 13
+    fig = Figure(figsize=(size_px / dpi, 1.12 * size_px / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.subplots()
-    fig.subplots_adjust(left=0.13, right=0.97, bottom=0.1, top=0.93)
+    fig.subplots_adjust(left=0.13, right=0.97, bottom=0.2, top=0.94)
     lo, hi = _extent(record, flood, t, pos, alive)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -85,21 +86,21 @@ def write_animation(
     ax.grid(True, lw=0.3, alpha=0.5)
 
     water = PolyCollection([], facecolors="#9ecae1", edgecolors="#3182bd", linewidths=1.0, zorder=1)
-    footprints = PolyCollection([], facecolors="none", linewidths=0.8, zorder=2)
+    footprints = PolyCollection([], facecolors="none", linewidths=0.4 if big_fleet else 0.8, zorder=2)
     trails = LineCollection([], linewidths=1.0, zorder=3)
     ax.add_collection(water)
     ax.add_collection(footprints)
     ax.add_collection(trails)
     caged_line, = ax.plot([], [], color="black", lw=1.8, zorder=5)
-    dots = ax.scatter(np.zeros(len(colours)), np.zeros(len(colours)), s=18, c=colours, edgecolors="black", linewidths=0.4, zorder=6)
+    dots = ax.scatter(np.zeros(len(colours)), np.zeros(len(colours)), s=8 if big_fleet else 18, c=colours, edgecolors="black", linewidths=0.4, zorder=6)
     title = ax.set_title("", fontsize=9)
     for role, colour in ROLE_COLOURS.items():
-        if role in record.roles and len(record.vehicle_ids) > 13:
+        if role in record.roles and big_fleet:
             ax.plot([], [], "o", color=colour, ms=4, label=role)
     ax.fill([], [], facecolor="#9ecae1", edgecolor="#3182bd", label="flood (truth)")
     ax.plot([], [], color="grey", lw=0.8, label="camera footprint")
     ax.plot([], [], color="black", lw=1.8, label="caged polygon")
-    ax.legend(loc="upper right", fontsize=6, framealpha=0.8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize=6.5, frameon=False)
 
     def draw(k: int) -> list[Any]:
         tk = float(t[k])
@@ -146,14 +147,14 @@ def write_animation(
 
 
 def _save_gif(images: list[Image.Image], out: Path, fps: int) -> None:
-    """One shared 128-colour palette (from the first and last frames) keeps the GIF small and quick to write."""
+    """One shared 192-colour palette (from the first and last frames) keeps the GIF small and quick to write."""
     if not images:
         return
     first, last = images[0], images[-1]
     sample = Image.new("RGB", (first.width + last.width, first.height))
     sample.paste(first, (0, 0))
     sample.paste(last, (first.width, 0))
-    palette = sample.quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+    palette = sample.quantize(colors=192, method=Image.Quantize.MEDIANCUT)
     frames = [im.quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
     frames[0].save(out, format="GIF", save_all=True, append_images=frames[1:], duration=int(1000 / max(fps, 1)), loop=0)
 
