@@ -103,8 +103,9 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
             rates.append(float(match.group(2)))
             overruns.append(int(match.group(3)))
     sim_log = (out_dir / "sim.log").read_text(errors="replace") if (out_dir / "sim.log").exists() else ""
+    cam_log = (out_dir / "cameras.log").read_text(errors="replace") if (out_dir / "cameras.log").exists() else ""
     age = _AGE_RE.search(sim_log)
-    frames = _FRAMES_RE.search(sim_log)
+    frames = _FRAMES_RE.search(cam_log) or _FRAMES_RE.search(sim_log)
     metrics_path = out_dir / "metrics.json"
     summary = json.loads(metrics_path.read_text())["summary"] if metrics_path.exists() else {}
     agent_cpu = [v for k, v in cpu_pct.items() if k.startswith("agent_")]
@@ -127,6 +128,7 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         "agent_rss_mb_median": statistics.median(agent_rss) if agent_rss else float("nan"),
         "sim_cpu_pct": cpu_pct.get("sim", float("nan")),
         "sim_rss_mb": peak_rss.get("sim", float("nan")),
+        "cameras_cpu_pct": cpu_pct.get("cameras", float("nan")),
         "radio_cpu_pct": cpu_pct.get("radio", float("nan")),
         "gcs_cpu_pct": cpu_pct.get("gcs", float("nan")),
         "total_cpu_pct": sum(cpu_pct.values()),
@@ -171,7 +173,7 @@ def main() -> int:
             break  # fleet scaling: sizes go up, the first one that does not hold ends the search
     keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
             "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_rss_mb_median", "sim_cpu_pct", "sim_rss_mb",
-            "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",
+            "cameras_cpu_pct", "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",
             "min_pairwise_distance_m"]
     print("| " + " | ".join(keys) + " |")
     print("|" + "---|" * len(keys))

@@ -40,7 +40,7 @@ from gcs.metrics.polygon_quality import polygon_iou
 from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
 from gcs.processes.event_log import EventLog
-from gcs.processes.launch import ProcessOptions, agent_command, radio_command, sim_command
+from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.processes.polygon_feed import aggregate_polygon, georeference_offset_en_m
@@ -56,6 +56,8 @@ EXIT_FAILED = 1
 EXIT_INTERRUPTED = 130
 VEHICLE_LOST_AFTER_S = 2.0
 """Wall seconds without a heartbeat on the GCS link before a vehicle is reported lost (SPEC §7: within 2 s)."""
+AGENT_NICENESS = 5
+"""Agents run below the simulator's priority (see ``Supervisor.start``)."""
 _AIRBORNE_FRACTION = 0.8
 _COMMAND_REPEAT_S = 0.5
 _SNAPSHOT_PERIOD_S = 5.0
@@ -167,15 +169,17 @@ class GroundStation:
     def _start_children(self) -> None:
         opts = self.options
         self.services["sim"] = self.supervisor.start("sim", sim_command(opts, self.mission))
+        self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, self.mission))
         self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
         for vehicle in self.scenario.vehicles:
             self.agents[vehicle.vehicle_id] = self.supervisor.start(
-                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, vehicle.role, self.mission)
+                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, vehicle.role, self.mission),
+                niceness=AGENT_NICENESS,
             )
             self.agent_alive[vehicle.vehicle_id] = False
         pids = {child.name: child.pid for child in self.supervisor.children}
         (self.out_dir / "processes.json").write_text(json.dumps(pids, indent=1))
-        self.events(f"started {len(self.supervisor.children)} processes: fleet+bridge, radio, "
+        self.events(f"started {len(self.supervisor.children)} processes: fleet+truth, cameras, radio, "
                     f"{len(self.agents)} agents (logs in {self.out_dir})")
 
     # ------------------------------------------------------------------ the loop

@@ -58,7 +58,15 @@ def sim_command(options: ProcessOptions, mission: str) -> list[str]:
         "mock_autopilot.sim_bridge", "--scenario", options.scenario_arg, *_set_args(options),
         "--mission", mission, "--speed", f"{options.speed:g}",
         "--base-port", str(options.mavlink_base_port), "--gcs-port", str(options.gcs_port),
-        "--connect", options.zenoh_endpoint,
+        "--cameras", "none", "--connect", options.zenoh_endpoint,
+    ]
+
+
+def cameras_command(options: ProcessOptions, mission: str) -> list[str]:
+    """The camera streams, in their own process, rendered from the truth the fleet publishes."""
+    return [
+        "mock_autopilot.sim_bridge.cameras", "--scenario", options.scenario_arg, *_set_args(options),
+        "--mission", mission, "--connect", options.zenoh_endpoint,
     ]
 
 

@@ -14,6 +14,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -28,6 +29,27 @@ def _die_with_parent() -> None:
         libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
     except OSError:
         pass
+
+
+def _child_setup(niceness: int) -> Callable[[], None]:
+    """preexec_fn: die with the parent, then lower the CPU priority by ``niceness``.
+
+    The child runs in its own session, and Linux schedules sessions as autogroups that share the CPU equally
+    whatever their processes' nice values; so the autogroup's nice is lowered too (``/proc/self/autogroup``),
+    or a busy machine would give each of 13 agents as much CPU as the simulator.
+    """
+
+    def setup() -> None:
+        _die_with_parent()
+        if niceness:
+            os.nice(niceness)
+            try:
+                with open("/proc/self/autogroup", "w") as autogroup:
+                    autogroup.write(str(niceness))
+            except OSError:
+                pass
+
+    return setup
 
 
 @dataclass
@@ -60,8 +82,12 @@ class Supervisor:
         self._log_dir = log_dir
         self._logs: list[IO[bytes]] = []
 
-    def start(self, name: str, module_args: list[str], env: dict[str, str] | None = None) -> Child:
-        """Start ``python -m <module_args...>`` with this interpreter; its output goes to ``<log_dir>/<name>.log``."""
+    def start(self, name: str, module_args: list[str], env: dict[str, str] | None = None, niceness: int = 0) -> Child:
+        """Start ``python -m <module_args...>`` with this interpreter; its output goes to ``<log_dir>/<name>.log``.
+
+        ``niceness`` > 0 lowers the child's CPU priority (the agents run at a lower priority than the simulator, so
+        on a busy machine the simulated world keeps its clock and the agents are the ones that fall behind, as a
+        slow companion computer would)."""
         log_path = self._log_dir / f"{name}.log"
         log = open(log_path, "ab")  # noqa: SIM115 - closed in stop_all
         self._logs.append(log)
@@ -75,7 +101,7 @@ class Supervisor:
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
             start_new_session=True,
-            preexec_fn=_die_with_parent,
+            preexec_fn=_child_setup(niceness),
             env=child_env,
         )
         child = Child(name, process, log_path)

@@ -14,6 +14,7 @@ the fleet's simulation clock.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -89,8 +90,14 @@ def camera_users(roles: dict[int, str], which: str = "boundary") -> set[int] | N
     return {vid for vid, role in roles.items() if role in CAMERA_ROLES}
 
 
-class SimBridge:
-    """Publishes truth every ``truth_period_s`` and camera frames every ``camera_period_s`` (mission seconds)."""
+class CameraStreamer:
+    """Renders and publishes the camera frames of the vehicles in ``camera_vehicle_ids`` (None: all) every
+    ``camera_period_s`` of mission time, on the flood clock the ground station's command starts.
+
+    It runs inside the fleet's process (:class:`SimBridge`) or in a process of its own fed by the published ground
+    truth (``python -m mock_autopilot.sim_bridge.cameras``): rendering then gets its own CPU and interpreter lock
+    instead of competing with the fleet's MAVLink thread.
+    """
 
     def __init__(
         self,
@@ -100,37 +107,34 @@ class SimBridge:
         camera: CameraModel,
         seed: int,
         camera_period_s: float,
-        truth_period_s: float,
-        on_flood_start: Callable[[float], None] | None = None,
         camera_vehicle_ids: set[int] | None = None,
+        on_flood_start: Callable[[float], None] | None = None,
     ) -> None:
-        """``camera_vehicle_ids``: the vehicles whose camera is streamed (None: all); see :func:`camera_users`."""
         self.session = session
         self.keys = MissionKeys(mission)
         self.flood = flood
         self.camera = camera
         self.seed = seed
         self.camera_period_s = camera_period_s
-        self.truth_period_s = truth_period_s
-        self.flood_clock_start_s: float | None = None
         self.camera_vehicle_ids = camera_vehicle_ids
+        self.flood_clock_start_s: float | None = None
         self._on_flood_start = on_flood_start
         self._commands = session.subscribe(self.keys.command)
         self._next_camera_s = 0.0
-        self._next_truth_s = 0.0
         self._frame_seq: dict[int, int] = {}
+        self._last_t_s: float | None = None
         self.frames_sent = 0
-        self.truths_sent = 0
+        self.render_wall_s = 0.0
+        self.render_cpu_s = 0.0
+        self.publish_wall_s = 0.0
         self.airborne_vehicle_s = 0.0
-        """Mission seconds summed over airborne vehicles: frames_sent / airborne_vehicle_s is the achieved frame rate."""
-        self._last_tick_s: float | None = None
-        session.declare_alive(self.keys.alive("sim"))
+        """Mission seconds summed over airborne camera vehicles: frames_sent / airborne_vehicle_s = frame rate."""
 
     def flood_time_s(self, now_s: float) -> float:
         """Flood clock: 0 until the ground station starts it, then mission time since the start."""
         return 0.0 if self.flood_clock_start_s is None else max(0.0, now_s - self.flood_clock_start_s)
 
-    def _read_commands(self) -> None:
+    def follow_commands(self) -> None:
         for item in self._commands.drain():
             msg = decode(MissionCommand, item.payload)
             if msg is not None and msg.flood_clock_start_t_s is not None and self.flood_clock_start_s is None:
@@ -138,38 +142,81 @@ class SimBridge:
                 if self._on_flood_start is not None:
                     self._on_flood_start(msg.flood_clock_start_t_s)
 
-    def tick(self, now_s: float, vehicles: Sequence[VehicleTruth]) -> None:
-        """Publish whatever is due at mission time ``now_s`` (call often; it keeps its own schedule)."""
-        self._read_commands()
-        if self._last_tick_s is not None:
-            airborne = sum(1 for v in vehicles if v.alive and v.position_enu_m[2] >= MIN_CAMERA_ALTITUDE_M
-                           and (self.camera_vehicle_ids is None or v.vehicle_id in self.camera_vehicle_ids))
-            self.airborne_vehicle_s += airborne * max(0.0, now_s - self._last_tick_s)
-        self._last_tick_s = now_s
-        if now_s >= self._next_truth_s:
-            self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
-            self.truths_sent += 1
-            self._next_truth_s = _next_due(self._next_truth_s, self.truth_period_s, now_s)
-        if now_s >= self._next_camera_s:
-            flood_t_s = self.flood_time_s(now_s)
-            for vehicle in vehicles:
-                if not vehicle.alive or vehicle.position_enu_m[2] < MIN_CAMERA_ALTITUDE_M:
-                    continue
-                if self.camera_vehicle_ids is not None and vehicle.vehicle_id not in self.camera_vehicle_ids:
-                    continue
-                seq = self._frame_seq.get(vehicle.vehicle_id, 0) + 1
-                self._frame_seq[vehicle.vehicle_id] = seq
-                msg = camera_frame_message(vehicle, seq, now_s, self.flood, flood_t_s, self.camera, self.seed)
-                self.session.put(self.keys.camera(vehicle.vehicle_id), encode(msg))
-                self.frames_sent += 1
-            self._next_camera_s = _next_due(self._next_camera_s, self.camera_period_s, now_s)
+    def _streams(self, vehicle: VehicleTruth) -> bool:
+        return (vehicle.alive and vehicle.position_enu_m[2] >= MIN_CAMERA_ALTITUDE_M
+                and (self.camera_vehicle_ids is None or vehicle.vehicle_id in self.camera_vehicle_ids))
+
+    def stream(self, now_s: float, vehicles: Sequence[VehicleTruth]) -> None:
+        """Render and publish every streaming vehicle's frame if one is due at mission time ``now_s``."""
+        self.follow_commands()
+        if self._last_t_s is not None:
+            airborne = sum(1 for v in vehicles if self._streams(v))
+            self.airborne_vehicle_s += airborne * max(0.0, now_s - self._last_t_s)
+        self._last_t_s = now_s
+        if now_s < self._next_camera_s:
+            return
+        flood_t_s = self.flood_time_s(now_s)
+        for vehicle in vehicles:
+            if not self._streams(vehicle):
+                continue
+            seq = self._frame_seq.get(vehicle.vehicle_id, 0) + 1
+            self._frame_seq[vehicle.vehicle_id] = seq
+            started, cpu_started = time.perf_counter(), time.thread_time()
+            msg = camera_frame_message(vehicle, seq, now_s, self.flood, flood_t_s, self.camera, self.seed)
+            self.render_cpu_s += time.thread_time() - cpu_started
+            rendered = time.perf_counter()
+            self.session.put(self.keys.camera(vehicle.vehicle_id), encode(msg))
+            self.render_wall_s += rendered - started
+            self.publish_wall_s += time.perf_counter() - rendered
+            self.frames_sent += 1
+        self._next_camera_s = _next_due(self._next_camera_s, self.camera_period_s, now_s)
 
     def frame_rate_hz(self) -> float:
         """Achieved camera frames per airborne vehicle per mission second (nominal: 1 / camera_period_s)."""
         return self.frames_sent / self.airborne_vehicle_s if self.airborne_vehicle_s > 0 else float("nan")
 
     def next_due_s(self) -> float:
-        return min(self._next_camera_s, self._next_truth_s)
+        return self._next_camera_s
+
+
+class SimBridge:
+    """The fleet process's side: ground truth every ``truth_period_s`` (mission seconds) and, unless the cameras
+    run in their own process (``cameras=None``), the camera frames through a :class:`CameraStreamer`."""
+
+    def __init__(self, session: ZenohSession, mission: str, truth_period_s: float,
+                 cameras: CameraStreamer | None = None) -> None:
+        self.session = session
+        self.keys = MissionKeys(mission)
+        self.truth_period_s = truth_period_s
+        self.cameras = cameras
+        self._next_truth_s = 0.0
+        self.truths_sent = 0
+        session.declare_alive(self.keys.alive("sim"))
+
+    def tick(self, now_s: float, vehicles: Sequence[VehicleTruth]) -> None:
+        """Publish whatever is due at mission time ``now_s`` (call often; it keeps its own schedule)."""
+        if now_s >= self._next_truth_s:
+            self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
+            self.truths_sent += 1
+            self._next_truth_s = _next_due(self._next_truth_s, self.truth_period_s, now_s)
+        if self.cameras is not None:
+            self.cameras.stream(now_s, vehicles)
+
+    def next_due_s(self) -> float:
+        return min(self._next_truth_s, self.cameras.next_due_s()) if self.cameras is not None else self._next_truth_s
+
+
+def vehicles_from_truth(truth: GroundTruth) -> list[VehicleTruth]:
+    """The per-vehicle view of a published ``GroundTruth`` (what a camera process renders from)."""
+    n = len(truth.vehicle_ids)
+    velocities = truth.velocities_enu_mps or [(0.0, 0.0, 0.0)] * n
+    yaws = truth.yaw_ned_rad or [0.0] * n
+    alive = truth.alive or [True] * n
+    return [
+        VehicleTruth(vid, np.asarray(truth.positions_enu_m[i], dtype=float), np.asarray(velocities[i], dtype=float),
+                     float(yaws[i]), bool(alive[i]))
+        for i, vid in enumerate(truth.vehicle_ids)
+    ]
 
 
 def _next_due(due_s: float, period_s: float, now_s: float) -> float:

@@ -23,7 +23,7 @@ from gcs.scenario import load_scenario
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.fleet import Fleet
 from mock_autopilot.sim_bridge.__main__ import vehicle_configs, vehicle_truths
-from mock_autopilot.sim_bridge.bridge import SimBridge
+from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge
 from mock_autopilot.world.config import flood_model_from_config
 
 pytestmark = pytest.mark.integration
@@ -71,7 +71,7 @@ def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(tmp_path:
             ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
         states = hub.subscribe(keys.state(1))
         alive = hub.subscribe_alive(keys.alive(1))
-        bridge = SimBridge(hub, mission, flood, camera, scenario.seed, 0.1, 0.1)
+        bridge = SimBridge(hub, mission, 0.1, CameraStreamer(hub, mission, flood, camera, scenario.seed, 0.1))
         agent = _start_agent(1, base, hub_ep, mission, tmp_path / "agent_1.log")
         try:
             pump = lambda: bridge.tick(fleet.clock.now_s(), vehicle_truths(fleet.truth()))  # noqa: E731

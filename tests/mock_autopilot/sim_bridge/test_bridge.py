@@ -11,7 +11,7 @@ from comms.keys import MissionKeys
 from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, encode
 from comms.zenoh_session import ZenohConfig, ZenohSession
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.sim_bridge.bridge import SimBridge, VehicleTruth
+from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth
 from mock_autopilot.world.flood_model import ExpandingCircle
 
 pytestmark = pytest.mark.integration
@@ -39,8 +39,8 @@ def test_bridge_publishes_truth_frames_and_follows_flood_clock() -> None:
         truth_buf = hub.subscribe(keys.truth)
         cam_buf = hub.subscribe(keys.all_cameras)
         time.sleep(0.5)
-        bridge = SimBridge(sim, "bridgetest", ExpandingCircle(), CameraModel(), seed=1, camera_period_s=0.1,
-                           truth_period_s=0.05)
+        cameras = CameraStreamer(sim, "bridgetest", ExpandingCircle(), CameraModel(), seed=1, camera_period_s=0.1)
+        bridge = SimBridge(sim, "bridgetest", truth_period_s=0.05, cameras=cameras)
         vehicles = [_vehicle(1, 12.0, 10.0), _vehicle(2, 14.0, 0.0)]
         bridge.tick(0.0, vehicles)
         got = _drain_until(cam_buf, lambda g: len(g) >= 1)
@@ -51,14 +51,14 @@ def test_bridge_publishes_truth_frames_and_follows_flood_clock() -> None:
         truth = decode(GroundTruth, _drain_until(truth_buf, lambda g: len(g) >= 1)[-1].payload)
         assert truth.vehicle_ids == [1, 2] and truth.positions_enu_m[0] == (12.0, 0.0, 10.0)
 
-        assert bridge.flood_time_s(5.0) == 0.0
+        assert cameras.flood_time_s(5.0) == 0.0
         hub.put(keys.command, encode(MissionCommand(seq=1, t_s=3.0, command="start", flood_clock_start_t_s=3.0)))
         deadline = time.monotonic() + 5.0
-        while bridge.flood_clock_start_s is None and time.monotonic() < deadline:
+        while cameras.flood_clock_start_s is None and time.monotonic() < deadline:
             bridge.tick(4.0, vehicles)
             time.sleep(0.05)
-        assert bridge.flood_clock_start_s == 3.0
-        assert bridge.flood_time_s(10.0) == pytest.approx(7.0)
+        assert cameras.flood_clock_start_s == 3.0
+        assert cameras.flood_time_s(10.0) == pytest.approx(7.0)
 
 
 def test_only_camera_users_get_frames() -> None:
@@ -71,10 +71,43 @@ def test_only_camera_users_get_frames() -> None:
     with ZenohSession(ZenohConfig.hub("tcp/127.0.0.1:25702")) as hub, ZenohSession(ZenohConfig.member("tcp/127.0.0.1:25702")) as sim:
         cam_buf = hub.subscribe(keys.all_cameras)
         time.sleep(0.5)
-        bridge = SimBridge(sim, "bridgecams", ExpandingCircle(), CameraModel(), seed=1, camera_period_s=0.1,
-                           truth_period_s=0.1, camera_vehicle_ids={1})
-        bridge.tick(0.0, [_vehicle(1, 12.0, 10.0), _vehicle(2, 0.0, 10.0)])
+        cameras = CameraStreamer(sim, "bridgecams", ExpandingCircle(), CameraModel(), seed=1, camera_period_s=0.1,
+                                 camera_vehicle_ids={1})
+        cameras.stream(0.0, [_vehicle(1, 12.0, 10.0), _vehicle(2, 0.0, 10.0)])
         got = _drain_until(cam_buf, lambda g: len(g) >= 1)
         time.sleep(0.3)
         got += cam_buf.drain()
         assert sorted(decode(CameraFrame, r.payload).vehicle_id for r in got) == [1]
+
+
+def test_camera_process_renders_from_published_truth(tmp_path) -> None:  # noqa: ANN001
+    """``python -m mock_autopilot.sim_bridge.cameras`` turns the fleet's published truth into camera frames."""
+    import subprocess
+    import sys
+
+    from comms.messages import encode as encode_msg
+    from mock_autopilot.sim_bridge.bridge import ground_truth_message
+
+    keys = MissionKeys("camproc")
+    hub_ep = "tcp/127.0.0.1:25703"
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        cam_buf = hub.subscribe(keys.all_cameras)
+        log = (tmp_path / "cameras.log").open("wb")
+        proc = subprocess.Popen([sys.executable, "-m", "mock_autopilot.sim_bridge.cameras", "--mission", "camproc",
+                                 "--connect", hub_ep], stdout=log, stderr=subprocess.STDOUT)
+        try:
+            deadline = time.monotonic() + 20.0
+            t_s = 0.0
+            frames = []
+            while time.monotonic() < deadline and len(frames) < 3:
+                truth = ground_truth_message(t_s, [_vehicle(1, 12.0, 10.0), _vehicle(9, 0.0, 10.0)])
+                hub.put(keys.truth, encode_msg(truth))
+                t_s += 0.1
+                time.sleep(0.1)
+                frames += [decode(CameraFrame, r.payload) for r in cam_buf.drain()]
+        finally:
+            proc.terminate()
+            proc.wait(timeout=10)
+        assert len(frames) >= 3, (tmp_path / "cameras.log").read_text()
+        assert {f.vehicle_id for f in frames} == {1}, "circle's vehicle 9 is the leader: no camera stream"
+        assert proc.returncode == 0

@@ -1,0 +1,94 @@
+"""``python -m mock_autopilot.sim_bridge.cameras --scenario circle``: the camera streams in a process of their own.
+
+Fed by the ground truth the fleet's process publishes, it renders each streaming vehicle's downward camera at the
+camera rate and publishes the frames (see :class:`mock_autopilot.sim_bridge.bridge.CameraStreamer`). Keeping the
+renderer out of the fleet's process gives it its own CPU share and interpreter lock: in one process, the fleet's
+MAVLink thread and the renderer slowed each other down (docs/BENCHMARKS.md, Mission). Runs until SIGTERM / Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+
+import cv2
+
+from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
+from comms.keys import KeyNameError, MissionKeys, validate_mission
+from comms.messages import GroundTruth, decode
+from comms.zenoh_session import ZenohOpenError, ZenohSession
+from gcs.scenario import ScenarioError, load_scenario
+from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.sim_bridge.bridge import CameraStreamer, camera_users, vehicles_from_truth
+from mock_autopilot.world.config import flood_model_from_config
+
+log = logging.getLogger("mock_autopilot.sim_bridge.cameras")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m mock_autopilot.sim_bridge.cameras",
+                                description="Render and stream the vehicles' camera frames from published truth.")
+    p.add_argument("--scenario", default="circle")
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
+    p.add_argument("--camera-hz", type=float, help="frame rate in mission time (default: the control rate)")
+    p.add_argument("--cameras", choices=("boundary", "all"), default="boundary")
+    p.add_argument("--log-level", default="INFO")
+    add_zenoh_arguments(p)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    try:
+        scenario = load_scenario(args.scenario, args.overrides)
+        mission = validate_mission(args.mission or scenario.name)
+        zenoh = zenoh_config_from_args(args)
+        camera_hz = args.camera_hz or scenario.control_rate_hz
+        if not camera_hz > 0:
+            raise ValueError("--camera-hz must be > 0")
+        flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+    except (ScenarioError, KeyNameError, ValueError) as exc:
+        print(f"cameras: {exc}", file=sys.stderr)
+        return 2
+    cv2.setNumThreads(1)  # one frame at a time on a busy machine; OpenCV's pool only adds waiting
+    camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+    try:
+        session = ZenohSession(zenoh)
+    except ZenohOpenError as exc:
+        print(f"cameras: {exc}", file=sys.stderr)
+        return 1
+    with session:
+        keys = MissionKeys(mission)
+        truth_buf = session.subscribe(keys.truth)
+        session.declare_alive(keys.alive("cameras"))
+        streamer = CameraStreamer(session, mission, flood, camera, scenario.seed, 1.0 / camera_hz,
+                                  camera_users({v.vehicle_id: v.role for v in scenario.vehicles}, args.cameras),
+                                  on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
+        latest_t_s = -1.0
+        while not stop.is_set():
+            if not truth_buf.wait(0.2):
+                continue
+            for item in truth_buf.drain():
+                truth = decode(GroundTruth, item.payload)
+                if truth is None or truth.t_s <= latest_t_s:
+                    continue
+                latest_t_s = truth.t_s
+                streamer.stream(truth.t_s, vehicles_from_truth(truth))
+        log.info("cameras sent %d frames; camera frame rate %.2f Hz per airborne vehicle (nominal %.2f Hz, mission time)",
+                 streamer.frames_sent, streamer.frame_rate_hz(), camera_hz)
+        log.info("cameras: rendering %.1f s wall (%.1f s CPU), publishing %.1f s wall", streamer.render_wall_s,
+                 streamer.render_cpu_s, streamer.publish_wall_s)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
