@@ -48,6 +48,7 @@ class UdpLink(asyncio.DatagramProtocol):
         self.delay_s = 0.0
         self.fault_drops: Counter[str] = Counter()
         self.sent_datagrams = 0
+        self.received_datagrams = 0
         self.send_errors = 0
         self.peer_changes = 0
 
@@ -75,6 +76,7 @@ class UdpLink(asyncio.DatagramProtocol):
         self.send_errors += 1
 
     def datagram_received(self, data: bytes, addr: tuple) -> None:  # type: ignore[override]
+        self.received_datagrams += 1
         if self.dropped_by_fault:
             self.fault_drops["inbound"] += 1
             return

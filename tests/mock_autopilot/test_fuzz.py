@@ -137,6 +137,15 @@ def test_garbage_datagram_never_swallows_next_datagrams_frame() -> None:
         assert [r.time_usec for r in replies if r.get_type() == "PING"] == [i]
 
 
+def wait_for(m, msg_type: str, ok, timeout_s: float = 3.0):  # type: ignore[no-untyped-def]
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        msg = m.recv_match(type=msg_type, blocking=True, timeout=0.1)
+        if msg is not None and ok(msg):
+            return msg
+    return None
+
+
 @pytest.mark.integration
 def test_udp_fuzz_then_vehicle_answers_and_telemetry_stays_with_owner() -> None:
     os.environ["MAVLINK20"] = "1"
@@ -151,14 +160,21 @@ def test_udp_fuzz_then_vehicle_answers_and_telemetry_stays_with_owner() -> None:
         owner.mav.heartbeat_send(6, 8, 0, 0, 4, 3)  # every real client (MAVSDK, QGC) starts with heartbeats
         stranger = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         stranger.bind(("127.0.0.1", 0))
+        link = fleet.links[0]["onboard"]
+        before = link.received_datagrams
         for i, data in enumerate(datagrams):
             (stranger if i % 2 else owner.port).sendto(data, target)
-            if i % 200 == 0:
-                time.sleep(0.005)  # let the fleet's loop drain its socket; we test parsing, not buffer sizes
-        time.sleep(0.5)
+            if i % 100 == 99:  # let the fleet drain its socket: this tests parsing, not kernel buffer sizes
+                seen, idle_since = -1, time.monotonic()
+                while link.received_datagrams - before < i + 1 and time.monotonic() - idle_since < 0.05:
+                    if link.received_datagrams != seen:
+                        seen, idle_since = link.received_datagrams, time.monotonic()
+                    time.sleep(0.001)
+        time.sleep(0.3)
+        assert link.received_datagrams - before >= 0.99 * len(datagrams)
         drops = fleet.drop_counters()[1]
-        total = sum(drops["onboard"].values()) + sum(drops["vehicle"].values())
-        assert total >= 0.9 * len(datagrams)
+        assert sum(drops["onboard"].values()) > 0.6 * len(datagrams)
+        assert sum(drops["vehicle"].values()) > 0.05 * len(datagrams)
         truth = fleet.truth()
         assert not truth.armed[0] and truth.modes[0] == "AUTO.LOITER"
         assert fleet.vehicles[0].params["MPC_XY_VEL_MAX"] == 12.0
@@ -166,13 +182,14 @@ def test_udp_fuzz_then_vehicle_answers_and_telemetry_stays_with_owner() -> None:
         stranger.setblocking(False)
         with pytest.raises(BlockingIOError):
             stranger.recv(4096)
-        while owner.recv_match(blocking=True, timeout=0.3) is not None:
-            pass  # replies to the fuzz's well-formed-but-invalid requests
+        deadline = time.monotonic() + 0.5
+        while time.monotonic() < deadline:
+            owner.recv_match(blocking=True, timeout=0.05)  # replies to the fuzz's well-formed-but-invalid requests
         owner.mav.param_request_read_send(1, 1, b"COM_OF_LOSS_T", -1)
-        value = owner.recv_match(type="PARAM_VALUE", blocking=True, timeout=3)
+        value = wait_for(owner, "PARAM_VALUE", lambda v: v.param_id == "COM_OF_LOSS_T")
         assert value is not None and value.param_value == 1.0
         owner.mav.command_long_send(1, 1, 400, 0, 1, 0, 0, 0, 0, 0, 0)
-        ack = owner.recv_match(type="COMMAND_ACK", blocking=True, timeout=3)
+        ack = wait_for(owner, "COMMAND_ACK", lambda a: a.command == 400)
         assert ack is not None and ack.result == 0
         stranger.close()
         owner.close()
