@@ -38,12 +38,14 @@ def main() -> None:
     parser.add_argument("--sim", type=float, default=10.0)
     parser.add_argument("--sizes", type=int, nargs="*", default=[4, 8, 12, 16, 24])
     parser.add_argument("--mode", default="improved")
+    parser.add_argument("--cameras", choices=("all", "boundary"), default="all",
+                        help="whose camera is rendered and segmented every step (default: every vehicle's)")
     ns = parser.parse_args()
     print("| vehicles | boundary | followers | sim [s] | wall [s] | x real time |")
     print("|---|---|---|---|---|---|")
     for per_group in ns.sizes:
         scenario = load_scenario("circle", scaled_overrides(per_group))
-        result = run_lockstep(scenario, ns.mode, duration_s=ns.sim)
+        result = run_lockstep(scenario, ns.mode, duration_s=ns.sim, cameras=ns.cameras)
         n = len(scenario.vehicles)
         print(f"| {n} | {2 * per_group} | {n - 2 * per_group - 1} | {ns.sim:g} | {result.wall_s:.2f} | "
               f"{ns.sim / result.wall_s:.2f} |", flush=True)

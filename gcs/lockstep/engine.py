@@ -69,8 +69,16 @@ def run_lockstep(
     duration_s: float | None = None,
     control_params: ControlParams | None = None,
     progress: Callable[[float], None] | None = None,
+    cameras: str = "all",
 ) -> LockstepResult:
-    """Run ``scenario`` in ``mode`` to ``duration_s`` (default: the scenario's) and return the record."""
+    """Run ``scenario`` in ``mode`` to ``duration_s`` (default: the scenario's) and return the record.
+
+    ``cameras = "all"`` renders and segments every vehicle's camera at every control step; ``"boundary"`` only the
+    boundary drones' (the only law that reads images, as the process engine's simulator bridge streams by default);
+    the others then get no perception result.
+    """
+    if cameras not in ("all", "boundary"):
+        raise ValueError(f"cameras: must be all or boundary, got {cameras!r}")
     seed = scenario.seed if seed is None else seed
     duration_s = scenario.duration_s if duration_s is None else duration_s
     params = control_params if control_params is not None else scenario.control_params(mode)
@@ -117,8 +125,10 @@ def run_lockstep(
         radio.deliver(t_s)
         commands = np.zeros((n, 3))
         for i, vehicle in enumerate(vehicles):
-            perception = _perception_for(flood, t_s, positions[i], camera, seed)
-            frames += 1
+            perception = None
+            if cameras == "all" or vehicle.role == ROLE_BOUNDARY:
+                perception = _perception_for(flood, t_s, positions[i], camera, seed)
+                frames += 1
             command, memories[i] = control_step(vehicle.role, memories[i], owns[i], perception,
                                                 radio.heard_by(i, t_s), params, t_s)
             commands[i] = command.velocity_enu_mps

@@ -63,7 +63,7 @@ def control_step(
 
     The yaw is held at north (0 rad NED) so that camera footprints stay axis-aligned squares. Improved mode
     passes the command through the collision barrier of :func:`safety.safety_filter` against every heard vehicle
-    it must keep clear of (same or higher right of way).
+    it must keep clear of (same or higher right of way), after a short last-resort barrier against the others.
     """
     heard = usable_neighbours(memory.vehicle_id, neighbours, params.neighbour_timeout_s)
     if role == ROLE_BOUNDARY:
@@ -74,12 +74,20 @@ def control_step(
         velocity, memory = follower_step(memory, own, heard, params, t_s)
     else:
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
-    obstacles = yielded_to(role, heard) if params.mode == "improved" else []
-    if obstacles:
-        others = np.array([n.position_en_m for n in obstacles], dtype=float).reshape(-1, 2)
-        others_v = np.array([n.velocity_en_mps for n in obstacles], dtype=float).reshape(-1, 2)
-        velocity[:2] = safety_filter(velocity[:2], own.position_en_m, others, params.safety_min_distance_m,
-                                     params.safety_radius_m, params.safety_closing_rate_per_s, others_v)
+    if params.mode == "improved" and heard:
+        obstacles = yielded_to(role, heard)
+        ids = {n.vehicle_id for n in obstacles}
+        giving_way = [n for n in heard if n.vehicle_id not in ids]
+        if giving_way:
+            # Those who give way to me still must not be run over: a short last-resort barrier at half the distance.
+            others = np.array([n.position_en_m for n in giving_way], dtype=float).reshape(-1, 2)
+            velocity[:2] = safety_filter(velocity[:2], own.position_en_m, others, 0.5 * params.safety_min_distance_m,
+                                         params.safety_min_distance_m, params.safety_closing_rate_per_s)
+        if obstacles:
+            others = np.array([n.position_en_m for n in obstacles], dtype=float).reshape(-1, 2)
+            others_v = np.array([n.velocity_en_mps for n in obstacles], dtype=float).reshape(-1, 2)
+            velocity[:2] = safety_filter(velocity[:2], own.position_en_m, others, params.safety_min_distance_m,
+                                         params.safety_radius_m, params.safety_closing_rate_per_s, others_v)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)
     return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory
