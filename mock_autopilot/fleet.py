@@ -7,7 +7,8 @@ Usage from Python (tests, the mission's simulator bridge)::
         fleet.kill(1)                  # fault injection
         fleet.drop_counters()          # per vehicle, per link, per reason
 
-Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i and its GCS link
+The loop ticks every vehicle (physics, timers, due telemetry) at the period the fastest stream needs in wall time
+(1 / (rate x speed), between 5 and 20 ms) unless ``tick_period_s`` is given. Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i and its GCS link
 to 127.0.0.1:gcs_port (PX4 SITL conventions). Each link binds its own local port (ephemeral by default, PX4's
 14580+i / 18570+i with ``px4_local_ports=True``).
 """
@@ -28,7 +29,7 @@ from comms.frames import local_ned_to_mission_enu, ned_to_enu
 from mock_autopilot.clock import SimClock
 from mock_autopilot.faults import FaultSpec
 from mock_autopilot.mavlink_codec import LinkCodec, SigningState
-from mock_autopilot.px4_streams import GCS, LINKS, ONBOARD
+from mock_autopilot.px4_streams import GCS, LINKS, ONBOARD, STREAM_PROFILES
 from mock_autopilot.udp_link import UdpLink
 from mock_autopilot.vehicle import Outgoing, Vehicle, VehicleConfig
 
@@ -36,6 +37,8 @@ log = logging.getLogger(__name__)
 
 PX4_ONBOARD_LOCAL_BASE_PORT = 14580
 PX4_GCS_LOCAL_BASE_PORT = 18570
+MIN_TICK_PERIOD_S = 0.005
+MAX_TICK_PERIOD_S = 0.02
 
 
 @dataclass(frozen=True)
@@ -81,7 +84,7 @@ class Fleet:
         host: str = "127.0.0.1",
         px4_local_ports: bool = False,
         signing_key: bytes | None = None,
-        tick_period_s: float = 0.01,
+        tick_period_s: float | None = None,
         faults: Sequence[FaultSpec] = (),
     ) -> None:
         configs = [VehicleConfig(i) for i in range(vehicles)] if isinstance(vehicles, int) else list(vehicles)
@@ -100,6 +103,9 @@ class Fleet:
         self.host = host
         self.px4_local_ports = px4_local_ports
         self.signing_key = signing_key
+        if tick_period_s is None:
+            fastest_hz = max(hz for c in configs for link in STREAM_PROFILES[c.stream_profile].values() for hz in link.values())
+            tick_period_s = min(MAX_TICK_PERIOD_S, max(MIN_TICK_PERIOD_S, 1.0 / (fastest_hz * speed)))
         self.tick_period_s = tick_period_s
         self.clock = SimClock(speed)
         self._speed = speed

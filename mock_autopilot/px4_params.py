@@ -98,10 +98,14 @@ def decode_param_value(wire_value: float, wire_type: int, param_type: ParamType)
 
 
 class ParamStore:
-    """The current values of :data:`PARAM_TABLE` for one vehicle (plain data, no I/O)."""
+    """The current values of :data:`PARAM_TABLE` for one vehicle (plain data, no I/O).
+
+    ``version`` counts successful sets, so callers can cache what they derive from the values.
+    """
 
     def __init__(self, overrides: Mapping[str, float] | None = None) -> None:
         self._values: dict[str, float] = {p.name: float(p.default) for p in PARAM_TABLE}
+        self.version = 0
         for name, value in (overrides or {}).items():
             self.set(name, value)
 
@@ -128,6 +132,7 @@ class ParamStore:
         if not spec.min_value <= value <= spec.max_value:
             raise ParamError(f"{name}: {value} outside [{spec.min_value}, {spec.max_value}]")
         self._values[name] = value
+        self.version += 1
         return value
 
     def items(self) -> list[tuple[str, float]]:

@@ -43,6 +43,9 @@ FORCE_DISARM_MAGIC = 21196
 BATTERY_CELLS = 4
 HOVER_CURRENT_A = 15.0
 
+_NO_ACCEL = np.zeros(3)
+_NO_ACCEL.flags.writeable = False
+
 MAV_RESULT_ACCEPTED = 0
 MAV_RESULT_TEMPORARILY_REJECTED = 1
 MAV_RESULT_DENIED = 2
@@ -116,7 +119,7 @@ class Vehicle:
         self.body = KinematicState()
         self.yaw_rad = float(config.initial_yaw_rad)
         self.yaw_rate_rad_s = 0.0
-        self._accel_ned = np.zeros(3)
+        self._accel_ned = _NO_ACCEL
         self.armed = False
         self.mode = Px4Mode.AUTO_LOITER
         self.failsafe = False
@@ -148,6 +151,11 @@ class Vehicle:
         self._next_due: dict[str, dict[str, float]] = {
             link: {name: now_s for name in periods} for link, periods in self._periods.items()
         }
+        self._limits_version = -1
+        self._limits_cache = KinematicLimits()
+        self._wind_ned = np.asarray(config.wind_ned_mps, dtype=float) if any(config.wind_ned_mps) else None
+        self._battery_checked = math.nan
+        self._earliest_due: dict[str, float] = {link: now_s for link in LINKS}
         self._handlers: dict[str, Callable[[str, mavlink.MAVLink_message, float], list[Outgoing]]] = {
             "HEARTBEAT": self._on_heartbeat,
             "COMMAND_LONG": self._on_command_long,
@@ -535,6 +543,7 @@ class Vehicle:
         else:
             return MAV_RESULT_DENIED
         self._next_due[link][name] = now_s
+        self._earliest_due[link] = now_s
         return MAV_RESULT_ACCEPTED
 
     def _cmd_request_message(self, link: str, command: int, p: list[float], now_s: float) -> tuple[int, list[Outgoing]]:
@@ -579,6 +588,8 @@ class Vehicle:
             return []
         out, self._pending = self._pending, []
         for link, periods in self._periods.items():
+            if now_s + 1e-9 < self._earliest_due[link]:
+                continue
             due = self._next_due[link]
             for name, period in periods.items():
                 next_t = due.get(name, now_s)
@@ -591,32 +602,41 @@ class Vehicle:
                 if next_t <= now_s:
                     next_t = now_s + period
                 due[name] = next_t
+            self._earliest_due[link] = min((due.get(n, now_s) for n in periods), default=math.inf)
         return out
 
     def _on_ground(self) -> bool:
         return float(self.position_ned_m[2]) >= -GROUND_TOLERANCE_M
 
-    def _step(self, dt: float) -> None:
-        t = self._t_s + dt
-        p = self.position_ned_m
-        if self.armed:
-            command, yaw_target, yaw_rate = self._velocity_command(t)
-            limits = KinematicLimits(
+    def _limits(self) -> KinematicLimits:
+        """PX4 velocity-controller limits from the parameters, rebuilt only when a parameter changed."""
+        if self._limits_version != self.params.version:
+            self._limits_version = self.params.version
+            self._limits_cache = KinematicLimits(
                 max_xy_speed_mps=self.params["MPC_XY_VEL_MAX"],
                 max_climb_speed_mps=self.params["MPC_Z_VEL_MAX_UP"],
                 max_descent_speed_mps=max(self.params["MPC_Z_VEL_MAX_DN"], self.params["MPC_LAND_SPEED"]),
                 max_xy_accel_mps2=self.params["MPC_ACC_HOR"],
                 max_z_accel_mps2=self.params["MPC_ACC_UP_MAX"],
             )
+        return self._limits_cache
+
+    def _step(self, dt: float) -> None:
+        t = self._t_s + dt
+        if self.armed:
+            command, yaw_target, yaw_rate = self._velocity_command(t)
             self._commanded_down_mps = float(command[2])
-            wind = np.asarray(self.config.wind_ned_mps, dtype=float) if not self._on_ground() else None
-            new_body = step_kinematics(self.body, command, limits, dt, wind_ned_mps=wind)
+            wind = self._wind_ned if self._wind_ned is not None and not self._on_ground() else None
+            new_body = step_kinematics(self.body, command, self._limits(), dt, wind_ned_mps=wind)
             self._update_yaw(yaw_target, yaw_rate, dt)
         else:
             new_body = self._fall(dt)
             self.yaw_rate_rad_s = 0.0
-        self._accel_ned = (new_body.velocity_ned_mps - self.body.velocity_ned_mps) / dt
-        self.body = new_body
+        if new_body is not self.body:
+            self._accel_ned = (new_body.velocity_ned_mps - self.body.velocity_ned_mps) / dt
+            self.body = new_body
+        elif self._accel_ned is not _NO_ACCEL:
+            self._accel_ned = _NO_ACCEL
         self._t_s = t
         self._drain_battery(dt)
         self._update_ground(t)
@@ -625,6 +645,8 @@ class Vehicle:
     def _fall(self, dt: float) -> KinematicState:
         p, v = self.position_ned_m, self.velocity_ned_mps
         if self._on_ground() and v[2] <= 0.0:
+            if p[2] == 0.0 and v[0] == 0.0 and v[1] == 0.0 and v[2] == 0.0:
+                return self.body  # resting on the ground: nothing moves
             return KinematicState(position_ned_m=np.array([p[0], p[1], 0.0]), velocity_ned_mps=np.zeros(3))
         new_v = np.array([v[0] * math.exp(-dt), v[1] * math.exp(-dt), min(v[2] + GRAVITY_MPS2 * dt, 30.0)])
         new_p = p + new_v * dt
@@ -634,14 +656,15 @@ class Vehicle:
         return KinematicState(position_ned_m=new_p, velocity_ned_mps=new_v)
 
     def _goto(self, target: NDArray[np.float64], speed_xy: float, climb: float, descent: float) -> NDArray[np.float64]:
+        """PX4's position loop: P on the position error, horizontal speed capped, vertical within climb/descent."""
         p = self.position_ned_m
-        v = np.empty(3)
-        v[:2] = self.params["MPC_XY_P"] * (target[:2] - p[:2])
-        n = math.hypot(v[0], v[1])
+        kxy = self.params["MPC_XY_P"]
+        vx, vy = kxy * (float(target[0]) - float(p[0])), kxy * (float(target[1]) - float(p[1]))
+        n = math.hypot(vx, vy)
         if n > speed_xy > 0.0:
-            v[:2] *= speed_xy / n
-        v[2] = float(np.clip(self.params["MPC_Z_P"] * (target[2] - p[2]), -climb, descent))
-        return v
+            vx, vy = vx * speed_xy / n, vy * speed_xy / n
+        vz = min(max(self.params["MPC_Z_P"] * (float(target[2]) - float(p[2])), -climb), descent)
+        return np.array([vx, vy, vz])
 
     def _cruise(self) -> float:
         return self._cruise_speed_mps if self._cruise_speed_mps is not None else self.params["MPC_XY_CRUISE"]
@@ -704,9 +727,9 @@ class Vehicle:
         max_rate = math.radians(self.params["MPC_YAWRAUTO_MAX"])
         if math.isfinite(yaw_target):
             error = (yaw_target - self.yaw_rad + math.pi) % (2 * math.pi) - math.pi
-            rate = float(np.clip(error / max(dt, 0.2), -max_rate, max_rate))
+            rate = min(max(error / max(dt, 0.2), -max_rate), max_rate)
         else:
-            rate = float(np.clip(yaw_rate, -max_rate, max_rate))
+            rate = min(max(yaw_rate, -max_rate), max_rate)
         self.yaw_rate_rad_s = rate
         self.yaw_rad = (self.yaw_rad + rate * dt) % (2 * math.pi)
 
@@ -782,6 +805,9 @@ class Vehicle:
 
     def _check_battery(self) -> None:
         remaining = self.battery_remaining
+        if remaining == self._battery_checked:
+            return
+        self._battery_checked = remaining
         level = 0
         for i, name in enumerate(("BAT_LOW_THR", "BAT_CRIT_THR", "BAT_EMERGEN_THR"), start=1):
             if remaining < self.params[name]:
