@@ -245,7 +245,7 @@ class FloodPolygonProperties(msgspec.Struct, frozen=True, omit_defaults=True):
     t_s: float
     area_m2: float
     perimeter_m: float
-    growth_rate_m2_per_s: float = 0.0
+    growth_rate_m2_per_s: float | None = None  # null until two polygons exist (JSON has no NaN)
     vehicle_ids: list[int] = []
     utc_iso: str = ""
 
@@ -406,13 +406,18 @@ def flood_polygon_from_enu(
     *,
     mission: str,
     t_s: float,
-    growth_rate_m2_per_s: float = 0.0,
+    growth_rate_m2_per_s: float | None = None,
     vehicle_ids: Sequence[int] = (),
     utc_iso: str = "",
 ) -> FloodPolygon:
     """Build the GeoJSON polygon from a mission-ENU ring (K, 2): closes it, makes it counter-clockwise (RFC 7946),
-    converts to ``[lon, lat]`` through ``comms.frames``, and fills area and perimeter [m², m] from the ENU ring."""
+    converts to ``[lon, lat]`` through ``comms.frames``, and fills area and perimeter [m², m] from the ENU ring.
+
+    A non-finite growth rate (e.g. NaN before two polygons exist) becomes null; a non-finite ring or time, or fewer
+    than 3 distinct vertices, raises ValueError (JSON cannot carry NaN, and the receiver would drop it)."""
     ring = np.asarray(ring_en_m, dtype=float).reshape(-1, 2)
+    if not (np.isfinite(ring).all() and math.isfinite(t_s)):
+        raise ValueError("polygon ring and t_s must be finite")
     if len(ring) >= 2 and np.allclose(ring[0], ring[-1]):
         ring = ring[:-1]
     if len(ring) < 3:
@@ -433,7 +438,11 @@ def flood_polygon_from_enu(
             t_s=float(t_s),
             area_m2=abs(signed_area),
             perimeter_m=perimeter_m,
-            growth_rate_m2_per_s=float(growth_rate_m2_per_s),
+            growth_rate_m2_per_s=(
+                float(growth_rate_m2_per_s)
+                if growth_rate_m2_per_s is not None and math.isfinite(growth_rate_m2_per_s)
+                else None
+            ),
             vehicle_ids=[int(v) for v in vehicle_ids],
             utc_iso=utc_iso,
         ),

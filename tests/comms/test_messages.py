@@ -165,3 +165,15 @@ def test_unknown_kind_is_counted_not_raised() -> None:
     stats = DecodeStats()
     assert decode("NoSuchMessage", b"\x80", stats) is None
     assert stats.dropped_total("malformed") == 1
+
+
+def test_flood_polygon_with_unknown_growth_rate_still_decodes() -> None:
+    # the ground station's first polygon has no growth rate yet (NaN); JSON has no NaN, so it must go out as null
+    poly = flood_polygon_from_enu([[12, 0], [0, 12], [-12, 0]], GeodeticHome(), mission="m", t_s=1.0,
+                                  growth_rate_m2_per_s=float("nan"))
+    back = decode(FloodPolygon, encode(poly), DecodeStats())
+    assert back is not None and back.properties.growth_rate_m2_per_s is None
+    with pytest.raises(ValueError):
+        flood_polygon_from_enu([[np.nan, 0], [0, 12], [-12, 0]], GeodeticHome(), mission="m", t_s=1.0)
+    with pytest.raises(ValueError):
+        flood_polygon_from_enu([[1, 0], [0, 1], [-1, 0]], GeodeticHome(), mission="m", t_s=float("inf"))
