@@ -49,8 +49,9 @@ FLAG_LEAVING = 1 << 8  # the agent is leaving the swarm (vehicle lost, landing):
 FLAG_LOW_BATTERY = 1 << 9
 
 
-class DecodeError(ValueError):
-    """Raised inside decoding only; ``decode`` turns it into None plus a counted reason."""
+class InvalidMessage(ValueError):
+    """A message that breaks a schema check (NaN position, negative id, ...). Raised when such a message is
+    constructed (a sender bug surfaces at the sender); on receipt ``decode`` turns it into None + ``invalid``."""
 
 
 def _finite(*values: float) -> bool:
@@ -94,13 +95,18 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
 
     def __post_init__(self) -> None:
         if self.sender_id < 0 or self.seq < 0:
-            raise DecodeError("sender_id and seq must be >= 0")
+            raise InvalidMessage("sender_id and seq must be >= 0")
         # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
         p, v = self.position_en_m, self.velocity_en_mps
         if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):
-            raise DecodeError("non-finite state")
+            raise InvalidMessage("non-finite state")
+        for optional in (self.lat_deg, self.lon_deg, self.battery_fraction):
+            if optional is not None and not math.isfinite(optional):
+                raise InvalidMessage("non-finite optional field (send None instead)")
+        if self.extras and not math.isfinite(sum(self.extras.values())):
+            raise InvalidMessage("non-finite extra")
         if self.edge_points_en_m and not _finite_points(self.edge_points_en_m):
-            raise DecodeError("non-finite edge point")
+            raise InvalidMessage("non-finite edge point")
 
     def has(self, flag: int) -> bool:
         return bool(self.flags & flag)
@@ -127,11 +133,11 @@ class CameraFrame(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
 
     def __post_init__(self) -> None:
         if not _finite(self.t_s, self.altitude_m, self.yaw_ned_rad, self.fov_deg):
-            raise DecodeError("non-finite pose")
+            raise InvalidMessage("non-finite pose")
         if not (0 < self.width_px <= 8192 and 0 < self.height_px <= 8192):
-            raise DecodeError("bad image size")
+            raise InvalidMessage("bad image size")
         if self.encoding == "raw_bgr" and len(self.image) != self.width_px * self.height_px * 3:
-            raise DecodeError("raw_bgr size mismatch")
+            raise InvalidMessage("raw_bgr size mismatch")
 
 
 class BoundaryEdgePoints(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/edge/1"):
@@ -144,7 +150,7 @@ class BoundaryEdgePoints(msgspec.Struct, frozen=True, omit_defaults=True, tag_fi
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.t_s) and _finite_points(self.points_en_m)):
-            raise DecodeError("non-finite edge points")
+            raise InvalidMessage("non-finite edge points")
 
 
 class GroundTruth(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/truth/1"):
@@ -164,12 +170,12 @@ class GroundTruth(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
     def __post_init__(self) -> None:
         n = len(self.vehicle_ids)
         if len(self.positions_enu_m) != n:
-            raise DecodeError("positions length mismatch")
+            raise InvalidMessage("positions length mismatch")
         for extra in (self.velocities_enu_mps, self.yaw_ned_rad, self.alive):
             if extra and len(extra) != n:
-                raise DecodeError("truth list length mismatch")
+                raise InvalidMessage("truth list length mismatch")
         if not math.isfinite(self.t_s):
-            raise DecodeError("non-finite t_s")
+            raise InvalidMessage("non-finite t_s")
 
     def positions_array(self) -> np.ndarray:
         """(N, 3) float array; rows of vehicles that are not alive are NaN (out of everyone's radio range)."""
@@ -259,7 +265,7 @@ class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature")
     def __post_init__(self) -> None:
         rings = self.geometry.coordinates
         if not rings or len(rings[0]) < 4 or not all(_finite_points(r) for r in rings):
-            raise DecodeError("polygon needs a closed finite outer ring of >= 4 positions")
+            raise InvalidMessage("polygon needs a closed finite outer ring of >= 4 positions")
 
 
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent, FloodPolygon]
@@ -339,7 +345,7 @@ def _kind_class(kind: type[M] | str) -> type[M]:
 
 
 def _classify(cls: type, payload: bytes, error: Exception) -> str:
-    if isinstance(error, DecodeError) or isinstance(error.__cause__, DecodeError):
+    if isinstance(error, InvalidMessage) or isinstance(error.__cause__, InvalidMessage):
         return "invalid"
     if "truncated" in str(error):
         return "truncated"
@@ -384,7 +390,7 @@ def decode_with_reason(kind: type[M] | str, payload: bytes | bytearray | memoryv
         return None, "oversized"
     try:
         msg = _decoders[cls].decode(payload)
-    except Exception as error:  # msgspec.DecodeError / ValidationError, and our own DecodeError from __post_init__
+    except Exception as error:  # msgspec.DecodeError / ValidationError, and InvalidMessage from __post_init__
         reason = _classify(cls, bytes(payload), error)
         s.count_drop(name, reason)
         return None, reason

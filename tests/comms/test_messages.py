@@ -122,7 +122,8 @@ def test_wrong_version_is_distinguished() -> None:
 @pytest.mark.parametrize(
     "patch",
     [{"position_en_m": [float("nan"), 0.0]}, {"t_s": float("inf")}, {"sender_id": -3},
-     {"edge_points_en_m": [[0.0, float("nan")]]}],
+     {"edge_points_en_m": [[0.0, float("nan")]]}, {"lat_deg": float("nan")}, {"battery_fraction": float("inf")},
+     {"extras": {"gap_m": float("nan")}}],
 )
 def test_non_finite_or_negative_fields_are_invalid(patch: dict) -> None:
     raw = msgspec.msgpack.decode(encode(_state()))
