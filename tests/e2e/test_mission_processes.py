@@ -131,6 +131,26 @@ def test_other_scenarios_run_over_processes(tmp_path: Path, scenario: str, base:
     assert s["polygon_iou_final"] >= 0.8 and s["min_pairwise_distance_m"] >= 1.0
 
 
+@pytest.mark.slow
+def test_processes_engine_matches_lockstep_on_circle_improved(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
+    """The done-when check: the same mission through both engines; metrics agree within the stated tolerances
+    (bench/mission_compare.py prints the same comparison for the docs)."""
+    summaries = {}
+    for engine, base in (("lockstep", 26400), ("processes", 26400)):
+        out = tmp_path / engine
+        proc = mission_cli(["circle", "--engine", engine, "--mode", "improved", "--out", str(out), "--no-live",
+                            "--base-port", str(base), "--gcs-port", str(base + 50)], f"tcp/127.0.0.1:{base + 60}")
+        stdout, stderr = proc.communicate(timeout=600)
+        assert proc.returncode == 0, stdout[-2000:] + stderr[-2000:]
+        summaries[engine] = json.loads((out / "metrics.json").read_text())["summary"]
+    lock, proc_s = summaries["lockstep"], summaries["processes"]
+    assert abs(proc_s["encircle_time_s"] - lock["encircle_time_s"]) <= 2.0
+    assert abs(proc_s["polygon_iou_final"] - lock["polygon_iou_final"]) <= 0.02 and proc_s["polygon_iou_final"] >= 0.95
+    assert abs(proc_s["coverage_final"] - lock["coverage_final"]) <= 0.05
+    assert abs(proc_s["spacing_cv_final"] - lock["spacing_cv_final"]) <= 0.05
+    assert proc_s["min_pairwise_distance_m"] >= 1.0 and proc_s["near_miss_pairs"] == 0
+
+
 def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) -> None:
     """kill -9 of a boundary agent: the GCS reports it within 2 s, its vehicle falls back, the mission completes."""
     out = tmp_path / "run"
