@@ -1,9 +1,10 @@
 """How many vehicles one fleet process holds at real time, per stream-rate profile, and the CPU per vehicle.
 
-Method: start a Fleet of N idle GPS vehicles (speed 1) whose links send to UDP sink sockets (bound, never read:
-the kernel drops what overflows, so the sink costs no CPU); after a 2 s warm-up, measure over ``--seconds``:
-* telemetry datagrams actually sent per vehicle per second vs what the profile asks for (an idle vehicle sends
-  every stream of the profile except POSITION_TARGET_LOCAL_NED);
+Method: start a Fleet of N GPS vehicles (speed 1) whose links send to UDP sink sockets (bound, never read:
+the kernel drops what overflows, so the sink costs no CPU); arm them and take them off to 5 m with MAVLink
+commands (``--idle`` leaves them on the ground); after a 2 s warm-up, measure over ``--seconds``:
+* telemetry datagrams actually sent per vehicle per second vs what the profile asks for (a vehicle without an
+  offboard setpoint sends every stream of the profile except POSITION_TARGET_LOCAL_NED);
 * CPU of the whole process (``time.process_time``; the measuring thread sleeps) per wall second, and per vehicle;
 * fleet ticks that overran their 10 ms period.
 "Holds real time" = at least 95 % of the asked telemetry rate is delivered and the process uses less than 95 % of
@@ -15,8 +16,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import socket
 import time
+
+from pymavlink.dialects.v20 import common as mavlink
 
 from mock_autopilot.fleet import Fleet
 from mock_autopilot.px4_streams import STREAM_PROFILES
@@ -28,7 +32,25 @@ def asked_rate_hz(profile: str) -> float:
     return sum(hz for link in STREAM_PROFILES[profile].values() for name, hz in link.items() if name != "POSITION_TARGET_LOCAL_NED")
 
 
-def measure(n: int, profile: str, seconds: float, base_port: int) -> dict[str, float | int | str | bool]:
+def take_off_all(fleet: Fleet) -> None:
+    """Arm every vehicle and send it to 5 m with real MAVLink commands, as a ground station would."""
+    client = mavlink.MAVLink(None, 255, 190)
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    nan = math.nan
+    for i, vehicle in enumerate(fleet.vehicles):
+        target = fleet.ports(i).onboard_local
+        for command, params in ((400, (1, 0, 0, 0, 0, 0, 0)), (22, (nan, nan, nan, nan, nan, nan, nan))):
+            msg = mavlink.MAVLink_command_long_message(vehicle.system_id, 1, command, 0, *params)
+            sock.sendto(msg.pack(client), target)
+        if i % 50 == 49:
+            time.sleep(0.05)
+    sock.close()
+    deadline = time.monotonic() + 20.0
+    while time.monotonic() < deadline and not (fleet.truth().position_enu_m[:, 2] > 4.5).all():
+        time.sleep(0.2)
+
+
+def measure(n: int, profile: str, seconds: float, base_port: int, flying: bool) -> dict[str, float | int | str | bool]:
     sinks = []
     for port in [base_port + i for i in range(n)] + [base_port + 990]:
         s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
@@ -37,6 +59,8 @@ def measure(n: int, profile: str, seconds: float, base_port: int) -> dict[str, f
     configs = [VehicleConfig(i, stream_profile=profile, pad_enu_m=(i * 2.0, 0.0, 0.0)) for i in range(n)]
     try:
         with Fleet(configs, base_port=base_port, gcs_port=base_port + 990, speed=1.0) as fleet:
+            if flying:
+                take_off_all(fleet)
             time.sleep(2.0)
 
             def sent() -> int:
@@ -54,7 +78,7 @@ def measure(n: int, profile: str, seconds: float, base_port: int) -> dict[str, f
     cpu = (c1 - c0) / wall
     holds = delivered >= 0.95 * asked and cpu < 0.95
     return {
-        "profile": profile, "vehicles": n, "asked_hz_per_vehicle": round(asked, 1),
+        "profile": profile, "vehicles": n, "flying": flying, "asked_hz_per_vehicle": round(asked, 1),
         "delivered_hz_per_vehicle": round(delivered, 1), "delivered_ratio": round(delivered / asked, 3),
         "cpu_cores": round(cpu, 3), "cpu_ms_per_vehicle_s": round(1000 * cpu / n, 3),
         "tick_overrun_ratio": round((o1 - o0) / max(1, t1 - t0), 3), "holds_real_time": holds,
@@ -67,10 +91,11 @@ def main() -> None:
     parser.add_argument("--ladder", type=int, nargs="+", default=[10, 25, 50, 75, 100, 150, 200, 300, 400, 600, 800])
     parser.add_argument("--seconds", type=float, default=5.0)
     parser.add_argument("--base-port", type=int, default=22000)
+    parser.add_argument("--idle", action="store_true", help="leave the vehicles disarmed on the ground")
     args = parser.parse_args()
     for profile in args.profiles:
         for n in args.ladder:
-            result = measure(n, profile, args.seconds, args.base_port)
+            result = measure(n, profile, args.seconds, args.base_port, not args.idle)
             print(json.dumps(result), flush=True)
             if not result["holds_real_time"]:
                 break

@@ -156,8 +156,9 @@ def attitude(v: Vehicle, now_s: float) -> mavlink.MAVLink_message:
 def altitude(v: Vehicle, now_s: float) -> mavlink.MAVLink_message:
     local_up = -float(v.position_ned_m[2])
     amsl = v.config.home.alt_m + float(v.config.pad_enu_m[2]) + local_up
+    home_up = -float(v.home_ned_m[2])
     return mavlink.MAVLink_altitude_message(
-        int(now_s * 1e6), amsl, amsl, local_up, local_up - -float(v.home_ned_m[2]), float("nan"), local_up
+        int(now_s * 1e6), amsl, amsl, local_up, local_up - home_up, float("nan"), local_up
     )
 
 

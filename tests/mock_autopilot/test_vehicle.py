@@ -379,3 +379,25 @@ def test_killed_vehicle_is_silent_and_falls() -> None:
     h.run(3.0)
     assert h.received == []
     assert h.vehicle.position_ned_m[2] == 0.0
+
+
+def test_reposition_by_command_int_and_change_speed() -> None:
+    home = GeodeticHome(47.0, 8.0, 400.0)
+    h = VehicleHarness(VehicleConfig(0, home=home, pad_enu_m=(10.0, 0.0, 0.0)))
+    airborne(h, 5.0)
+    assert h.command(178, 1, 2.0, -1) == ACCEPTED
+    lat, lon, _ = enu_to_geodetic(np.array([10.0, 20.0, 0.0]), home)  # 20 m north of the pad
+    replies = h.send(mavlink.MAVLink_command_int_message(
+        1, 1, mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 192, 0, 0, -1, 1, 0, NAN, int(round(lat * 1e7)), int(round(lon * 1e7)), 8.0))
+    assert [r.result for r in replies if r.get_type() == "COMMAND_ACK"] == [ACCEPTED]
+    h.run(3.0)
+    assert np.hypot(*h.vehicle.velocity_ned_mps[:2]) == pytest.approx(2.0, abs=0.1)  # DO_CHANGE_SPEED cruise
+    h.run(20.0)
+    assert h.vehicle.position_ned_m == pytest.approx([20.0, 0.0, -8.0], abs=0.3)
+    assert h.vehicle.mode is Px4Mode.AUTO_LOITER
+    assert h.command(178, 1, NAN) == DENIED
+
+
+def test_reposition_refused_without_gps() -> None:
+    h = VehicleHarness(VehicleConfig(0, has_gps=False))
+    assert h.command(192, -1, 1, 0, NAN, 47.0, 8.0, 500.0) == TEMP_REJECTED
