@@ -84,3 +84,26 @@ def test_kml_placemarks_carry_timestamps_and_lon_lat_coordinates(tmp_path) -> No
     assert tuples[0] == tuples[-1]
     lon, lat, alt = tuples[0]
     assert abs(lon - HOME.lon_deg) < 0.001 and abs(lat - HOME.lat_deg) < 0.001 and alt == 0.0
+
+
+def test_a_process_that_dies_mid_mission_leaves_parseable_files(tmp_path) -> None:
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    repo = Path(__file__).resolve().parents[3]
+    script = (
+        "import os, numpy as np\n"
+        "from comms.frames import GeodeticHome\n"
+        "from gcs.report import PolygonLog\n"
+        f"log = PolygonLog({str(tmp_path)!r}, GeodeticHome())\n"
+        "theta = np.linspace(0, 2 * np.pi, 40, endpoint=False)\n"
+        "for k in range(3):\n"
+        "    log.append(float(k), np.stack([10 * np.cos(theta), 10 * np.sin(theta)], axis=-1))\n"
+        "os._exit(9)  # no close(), no interpreter shutdown: a crash\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", script], cwd=repo, env={**os.environ, "PYTHONPATH": str(repo)}, timeout=60)
+    assert proc.returncode == 9
+    assert len(json.loads((tmp_path / "polygons.geojson").read_text())["features"]) == 3
+    assert len(ET.parse(tmp_path / "polygons.kml").getroot().findall(f".//{KML_NS}Placemark")) == 3
