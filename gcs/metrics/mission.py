@@ -24,6 +24,7 @@ from gcs.metrics.polygon_quality import hausdorff_m, polygon_iou
 from gcs.metrics.recovery import recovery_time_s, vehicle_losses
 from gcs.metrics.safety import pairwise_safety
 from gcs.metrics.spacing import spacing_from_arcs
+from gcs.metrics.tracking import max_m, rms_m
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.ring import project_onto_ring, ring_area_m2, ring_perimeter_m
 from mock_autopilot.world.flood_model import FloodModel
@@ -92,10 +93,10 @@ def compute_mission_metrics(
         "encircle_time_s": record.encircle_time_s if record.encircle_time_s is not None else ring_closed,
         "encircle_time_source": "engine" if record.encircle_time_s is not None else "truth (ring closed)",
         "ring_closed_time_s": ring_closed,
-        "tracking_rms_m": _rms(edge["errors"]),
-        "tracking_max_m": _nanmax(edge["errors"]),
-        "tracking_rms_last_10s_m": _rms(edge["errors"][last]),
-        "tracking_max_last_10s_m": _nanmax(edge["errors"][last]),
+        "tracking_rms_m": rms_m(edge["errors"]),
+        "tracking_max_m": max_m(edge["errors"]),
+        "tracking_rms_last_10s_m": rms_m(edge["errors"][last]),
+        "tracking_max_last_10s_m": max_m(edge["errors"][last]),
         "spacing_cv_final": _final(edge["spacing_cv"]),
         "max_gap_ratio_final": _final(edge["max_gap_ratio"]),
         "spacing_cv_last_10s_mean": _nanmean(edge["spacing_cv"][last]),
@@ -120,7 +121,7 @@ def compute_mission_metrics(
         "path_length_total_m": float(paths.sum()),
         "path_length_mean_m": float(paths.mean()) if n_v else math.nan,
         "boundary_speed_mean_mps": _nanmean(boundary_speed),
-        "boundary_speed_max_mps": _nanmax(boundary_speed),
+        "boundary_speed_max_mps": max_m(boundary_speed),
         "climb_events_total": int(sum(record.climb_events)) if len(record.climb_events) == n_v else None,
         "climb_events_truth_total": int(climbs_truth.sum()),
     }
@@ -129,7 +130,7 @@ def compute_mission_metrics(
             "role": record.roles[i],
             "path_length_m": float(paths[i]),
             "mean_speed_mps": _nanmean(speed[:, i]) if len(speed) else math.nan,
-            "max_speed_mps": _nanmax(speed[:, i]) if len(speed) else math.nan,
+            "max_speed_mps": max_m(speed[:, i]) if len(speed) else math.nan,
             "climb_events": climbs_engine[i],
             "climb_events_truth": int(climbs_truth[i]),
             "alive_at_end": bool(alive[-1, i]) if n_t else False,
@@ -302,16 +303,6 @@ def _final(series: NDArray[np.float64]) -> float:
 def _finite(values: NDArray[np.float64]) -> NDArray[np.float64]:
     v = np.asarray(values, dtype=float).ravel()
     return v[np.isfinite(v)]
-
-
-def _rms(values: NDArray[np.float64]) -> float:
-    v = _finite(values)
-    return float(np.sqrt(np.mean(v**2))) if len(v) else math.nan
-
-
-def _nanmax(values: NDArray[np.float64]) -> float:
-    v = _finite(values)
-    return float(v.max()) if len(v) else math.nan
 
 
 def _nanmean(values: NDArray[np.float64]) -> float:
