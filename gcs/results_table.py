@@ -76,7 +76,11 @@ def _table(rows: Sequence[Row], lead: Sequence[tuple[str, str]]) -> list[str]:
     header = [title for _, title in lead] + [title for _, title, _ in COLUMNS]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for row in rows:
-        cells = [str(row[key]) for key, _ in lead] + [_fmt(row.get(key), pattern) for key, _, pattern in COLUMNS]
+        cells = [str(row[key]) for key, _ in lead]
+        if "error" in row:
+            cells += [f"not run: {row['error']}"] + [""] * (len(COLUMNS) - 1)
+        else:
+            cells += [_fmt(row.get(key), pattern) for key, _, pattern in COLUMNS]
         lines.append("| " + " | ".join(cells) + " |")
     return lines
 
@@ -121,9 +125,13 @@ class Job:
 
 
 def run_job(job: Job) -> Row:
-    """Run one job (in this process or a worker)."""
+    """Run one job (in this process or a worker); a run that cannot start gives a row saying why."""
     changes = {"pdot_reading": job.pdot_reading} if job.pdot_reading is not None else {}
-    row = run_row(load_scenario(job.scenario), job.mode, seed=job.seed, label=job.label, **changes)
+    try:
+        row = run_row(load_scenario(job.scenario), job.mode, seed=job.seed, label=job.label, **changes)
+    except (ValueError, ImportError) as exc:
+        row = {"scenario": job.scenario, "mode": job.mode, "seed": job.seed, "label": job.label or job.mode,
+               "vehicles": "—", "wall_s": 0.0, "sim_s": 0.0, "error": str(exc).splitlines()[0]}
     row["table"] = job.table
     return row
 

@@ -16,6 +16,8 @@ from numpy.typing import NDArray
 
 from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER, NeighbourInfo
 
+_PASSES = 3
+
 RIGHT_OF_WAY = {ROLE_BOUNDARY: 0, ROLE_LEADER: 1, ROLE_FOLLOWER: 2}
 """Lower number = right of way. Boundary drones hold the cage, the leader the centre; followers make room."""
 
@@ -61,7 +63,8 @@ def safety_filter(
     ``closing_rate_per_s · (x − min_distance_m) + v_h · u`` (negative inside the minimum: move away), where v_h is
     the neighbour's last heard velocity: this drone alone keeps the closing speed within the barrier, whatever the
     other does (a peer doing the same only adds margin). A control-barrier style filter, applied neighbour by
-    neighbour, nearest last so that it has the final word.
+    neighbour, nearest last so that it has the final word; with several close neighbours the constraints are
+    projected on cyclically (:data:`_PASSES` rounds) so that a later correction seldom undoes an earlier one.
     """
     v = np.asarray(velocity_en_mps, dtype=float).copy()
     others = np.asarray(others_en_m, dtype=float).reshape(-1, 2)
@@ -69,15 +72,15 @@ def safety_filter(
         return v
     diff = others - np.asarray(own_en_m, dtype=float)[None, :]
     dist = np.hypot(diff[:, 0], diff[:, 1])
-    for k in np.argsort(-dist):
-        x = float(dist[k])
-        if x >= radius_m or x < 1e-9:
-            continue
-        u = diff[k] / x
-        allowed = closing_rate_per_s * (x - min_distance_m)
-        if others_velocity_en_mps is not None:
-            allowed += float(np.dot(others_velocity_en_mps[k], u))
-        along = float(np.dot(v, u))
-        if along > allowed:
-            v -= (along - allowed) * u
+    close = [int(k) for k in np.argsort(-dist) if 1e-9 < dist[k] < radius_m]
+    for _ in range(_PASSES if len(close) > 1 else 1):
+        for k in close:
+            x = float(dist[k])
+            u = diff[k] / x
+            allowed = closing_rate_per_s * (x - min_distance_m)
+            if others_velocity_en_mps is not None:
+                allowed += float(np.dot(others_velocity_en_mps[k], u))
+            along = float(np.dot(v, u))
+            if along > allowed:
+                v -= (along - allowed) * u
     return v
