@@ -61,10 +61,19 @@ def time_boot_ms(v: Vehicle, now_s: float) -> int:
 
 
 def geodetic_of(v: Vehicle, position_ned_m: np.ndarray) -> tuple[float, float, float]:
-    """(lat_deg, lon_deg, alt_m AMSL) of a local NED position of this vehicle (home + pad + local)."""
+    """(lat_deg, lon_deg, alt_m AMSL) of a local NED position of this vehicle (home + pad + local).
+
+    The last conversion is remembered: GLOBAL_POSITION_INT and GPS_RAW_INT of one tick share it.
+    """
+    key = (float(position_ned_m[0]), float(position_ned_m[1]), float(position_ned_m[2]))
+    cached = v.geodetic_cache
+    if cached is not None and cached[0] == key:
+        return cached[1]
     enu = local_ned_to_mission_enu(position_ned_m, v.config.pad_enu_m)
     lat, lon, alt = enu_to_geodetic(enu, v.config.home)
-    return float(lat), float(lon), float(alt)
+    result = (float(lat), float(lon), float(alt))
+    v.geodetic_cache = (key, result)
+    return result
 
 
 def _i16(value: float) -> int:

@@ -155,6 +155,7 @@ class Vehicle:
         self._limits_cache = KinematicLimits()
         self._wind_ned = np.asarray(config.wind_ned_mps, dtype=float) if any(config.wind_ned_mps) else None
         self._battery_checked = math.nan
+        self.geodetic_cache: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
         self._earliest_due: dict[str, float] = {link: now_s for link in LINKS}
         self._handlers: dict[str, Callable[[str, mavlink.MAVLink_message, float], list[Outgoing]]] = {
             "HEARTBEAT": self._on_heartbeat,
@@ -587,6 +588,7 @@ class Vehicle:
             self._pending.clear()
             return []
         out, self._pending = self._pending, []
+        built: dict[str, mavlink.MAVLink_message | None] = {}  # one message per stream and tick, shared by links
         for link, periods in self._periods.items():
             if now_s + 1e-9 < self._earliest_due[link]:
                 continue
@@ -595,7 +597,9 @@ class Vehicle:
                 next_t = due.get(name, now_s)
                 if now_s + 1e-9 < next_t:
                     continue
-                message = telemetry.BUILDERS[name](self, now_s)
+                if name not in built:
+                    built[name] = telemetry.BUILDERS[name](self, now_s)
+                message = built[name]
                 if message is not None:
                     out.append(Outgoing(link, message))
                 next_t += period
