@@ -9,6 +9,8 @@ commands (``--idle`` leaves them on the ground); after a 2 s warm-up, measure ov
 * fleet ticks that overran their 10 ms period.
 "Holds real time" = at least 95 % of the asked telemetry rate is delivered and the process uses less than 95 % of
 one core (Python's GIL: one fleet process is one core). The ladder stops after the first N that does not hold.
+On a shared machine the direct answer depends on how much CPU the other jobs leave us, so every row also gives
+the load average and the CPU-bound estimate 0.95 core / (CPU per vehicle), what one free core would hold.
 Run from the repository root: ``.venv/bin/python -m bench.autopilot_capacity [--profiles px4 reduced]``.
 """
 
@@ -17,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import socket
 import time
 
@@ -82,6 +85,8 @@ def measure(n: int, profile: str, seconds: float, base_port: int, flying: bool) 
         "delivered_hz_per_vehicle": round(delivered, 1), "delivered_ratio": round(delivered / asked, 3),
         "cpu_cores": round(cpu, 3), "cpu_ms_per_vehicle_s": round(1000 * cpu / n, 3),
         "tick_overrun_ratio": round((o1 - o0) / max(1, t1 - t0), 3), "holds_real_time": holds,
+        "one_core_estimate_vehicles": int(0.95 / (cpu / n)) if cpu > 0 else None,
+        "load_average_1min": round(os.getloadavg()[0], 1),
     }
 
 

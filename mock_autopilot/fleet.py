@@ -175,6 +175,7 @@ class Fleet:
         try:
             for i, config in enumerate(self.configs):
                 vehicle = Vehicle(config, now)
+                vehicle.stream_slack_s = 0.5 * self.tick_period_s * self._speed
                 self.vehicles.append(vehicle)
                 self.links.append(await self._open_links(i, vehicle))
         except BaseException:

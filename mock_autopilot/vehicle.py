@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import IntEnum
 from typing import Callable, Mapping
 
@@ -110,7 +110,7 @@ class Vehicle:
     def __init__(self, config: VehicleConfig, now_s: float = 0.0) -> None:
         pad = _pad3(config.pad_enu_m)
         if config.pad_enu_m != pad:
-            config = VehicleConfig(**{**config.__dict__, "pad_enu_m": pad})
+            config = replace(config, pad_enu_m=pad)
         self.config = config
         self.system_id = config.sysid
         self.params = ParamStore({"MAV_SYS_ID": self.system_id, **dict(config.params)})
@@ -155,6 +155,7 @@ class Vehicle:
         self._limits_cache = KinematicLimits()
         self._wind_ned = np.asarray(config.wind_ned_mps, dtype=float) if any(config.wind_ned_mps) else None
         self._battery_checked = math.nan
+        self.stream_slack_s = 0.0  # the fleet sets half its tick: a message due within it goes out this tick
         self.geodetic_cache: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
         self._earliest_due: dict[str, float] = {link: now_s for link in LINKS}
         self._handlers: dict[str, Callable[[str, mavlink.MAVLink_message, float], list[Outgoing]]] = {
@@ -589,13 +590,14 @@ class Vehicle:
             return []
         out, self._pending = self._pending, []
         built: dict[str, mavlink.MAVLink_message | None] = {}  # one message per stream and tick, shared by links
+        horizon = now_s + self.stream_slack_s + 1e-9
         for link, periods in self._periods.items():
-            if now_s + 1e-9 < self._earliest_due[link]:
+            if horizon < self._earliest_due[link]:
                 continue
             due = self._next_due[link]
             for name, period in periods.items():
                 next_t = due.get(name, now_s)
-                if now_s + 1e-9 < next_t:
+                if horizon < next_t:
                     continue
                 if name not in built:
                     built[name] = telemetry.BUILDERS[name](self, now_s)
