@@ -6,7 +6,7 @@ paper's (half the boundary count), the flood radius and radio range scaled with 
 vehicle stays the paper's. Each size runs ``--sim`` seconds of improved mode (the first seconds include the
 encircling, the busiest phase).
 
-    .venv/bin/python bench/lockstep_scale.py [--sim 10] [--sizes 4 8 12 16 24]
+    .venv/bin/python -m bench.lockstep_scale [--sim 10] [--sizes 4 8 12 16 24]
 """
 
 from __future__ import annotations
@@ -41,14 +41,14 @@ def main() -> None:
     parser.add_argument("--cameras", choices=("all", "boundary"), default="all",
                         help="whose camera is rendered and segmented every step (default: every vehicle's)")
     ns = parser.parse_args()
-    print("| vehicles | boundary | followers | sim [s] | wall [s] | x real time |")
-    print("|---|---|---|---|---|---|")
+    print("| vehicles | boundary | followers | sim [s] | wall [s] | x real time (wall) | CPU [s] | x real time (CPU) |")
+    print("|---|---|---|---|---|---|---|---|")
     for per_group in ns.sizes:
         scenario = load_scenario("circle", scaled_overrides(per_group))
         result = run_lockstep(scenario, ns.mode, duration_s=ns.sim, cameras=ns.cameras)
         n = len(scenario.vehicles)
         print(f"| {n} | {2 * per_group} | {n - 2 * per_group - 1} | {ns.sim:g} | {result.wall_s:.2f} | "
-              f"{ns.sim / result.wall_s:.2f} |", flush=True)
+              f"{ns.sim / result.wall_s:.2f} | {result.cpu_s:.2f} | {ns.sim / result.cpu_s:.2f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -145,7 +145,8 @@ def plan_jobs(scenarios: Sequence[str], seeds: Sequence[int]) -> list[Job]:
             continue
         jobs += [Job("scenarios", name, mode) for mode in ("paper", "improved")]
     jobs += [Job("pdot", "circle", mode, circle_seed, f"{mode}, ṗ {reading}", reading)
-             for mode in ("paper", "improved") for reading in ("normal", "full", "none")]
+             for mode in ("paper", "improved") for reading in ("full", "none")
+             if not (reading == "normal" and circle_seed in seeds)]
     return jobs
 
 
@@ -173,6 +174,11 @@ def build_results(scenarios: Sequence[str], seeds: Sequence[int], log: Callable[
             ordered += [r for r in pool_rows if r["scenario"] == name and r["mode"] == mode
                         and (pool_rows is results["scenarios"] or r["seed"] == circle_seed)]
     results["scenarios"] = ordered
+    pdot: list[Row] = []
+    for mode in ("paper", "improved"):
+        normal = [dict(r, label=f"{mode}, ṗ normal") for r in results["seeds"] if r["mode"] == mode and r["seed"] == circle_seed]
+        pdot += normal + [r for r in results["pdot"] if r["mode"] == mode]
+    results["pdot"] = pdot
     return results
 
 

@@ -49,6 +49,8 @@ class LockstepResult:
     flood: FloodModel
     params: ControlParams
     wall_s: float
+    cpu_s: float
+    """CPU time of this process during the run [s]: the figure a loaded machine does not inflate."""
     steps: int
     frames: int
     radio_heard: int
@@ -111,6 +113,7 @@ def run_lockstep(
     next_polygon_t = 0.0
     frames = 0
     wall_start = time.perf_counter()
+    cpu_start = time.process_time()
 
     for k in range(steps + 1):
         t_s = k * dt_s
@@ -149,6 +152,7 @@ def run_lockstep(
             progress(t_s)
 
     wall_s = time.perf_counter() - wall_start
+    cpu_s = time.process_time() - cpu_start
     events.append((steps * dt_s, f"lockstep end after {wall_s:.2f} s wall"))
     record = MissionRecord(
         scenario=scenario.name,
@@ -167,4 +171,4 @@ def run_lockstep(
         climb_events=[m.climb_events for m in memories],
         events=events,
     )
-    return LockstepResult(record, flood, params, wall_s, steps, frames, radio.heard_total, radio.lost_total)
+    return LockstepResult(record, flood, params, wall_s, cpu_s, steps, frames, radio.heard_total, radio.lost_total)
