@@ -145,8 +145,7 @@ def plan_jobs(scenarios: Sequence[str], seeds: Sequence[int]) -> list[Job]:
             continue
         jobs += [Job("scenarios", name, mode) for mode in ("paper", "improved")]
     jobs += [Job("pdot", "circle", mode, circle_seed, f"{mode}, ṗ {reading}", reading)
-             for mode in ("paper", "improved") for reading in ("full", "none")
-             if not (reading == "normal" and circle_seed in seeds)]
+             for mode in ("paper", "improved") for reading in ("full", "none")]
     return jobs
 
 
@@ -177,6 +176,8 @@ def build_results(scenarios: Sequence[str], seeds: Sequence[int], log: Callable[
     pdot: list[Row] = []
     for mode in ("paper", "improved"):
         normal = [dict(r, label=f"{mode}, ṗ normal") for r in results["seeds"] if r["mode"] == mode and r["seed"] == circle_seed]
+        if not normal:
+            normal = [run_job(Job("pdot", "circle", mode, circle_seed, f"{mode}, ṗ normal", "normal"))]
         pdot += normal + [r for r in results["pdot"] if r["mode"] == mode]
     results["pdot"] = pdot
     return results
