@@ -28,6 +28,15 @@ from pymavlink.dialects.v20 import common as mavlink
 from comms.frames import GeodeticHome, geodetic_to_enu, mission_enu_to_local_ned
 from mock_autopilot import telemetry
 from mock_autopilot.kinematics import KinematicLimits, KinematicState, step_kinematics
+from mock_autopilot.px4_failsafes import (
+    BATTERY_LEVELS,
+    DATALINK_LOSS_ACTIONS,
+    DISARM,
+    OFFBOARD_LOSS_ACTIONS,
+    TERMINATE,
+    FailsafeAction,
+    battery_action,
+)
 from mock_autopilot.px4_modes import MODE_TABLE, Px4Mode, mode_allowed, mode_from_custom_mode, mode_from_numbers
 from mock_autopilot.px4_params import PARAM_INDEX, PARAM_SPECS, PARAM_TABLE, ParamError, ParamStore, ParamType
 from mock_autopilot.px4_params import decode_param_value, encode_param_value
@@ -787,27 +796,23 @@ class Vehicle:
         self.armed = False
         self.failsafe = not disarm_only
 
-    def _failsafe_offboard_lost(self, t: float) -> None:
-        action = self.params.get_int("COM_OBL_RC_ACT")
-        reason = "offboard lost"
-        targets = {0: Px4Mode.POSCTL, 1: Px4Mode.ALTCTL, 2: Px4Mode.STABILIZED, 3: Px4Mode.AUTO_RTL, 4: Px4Mode.AUTO_LAND, 5: Px4Mode.AUTO_LOITER}
-        if action in targets:
-            self._failsafe_to(targets[action], reason)
+    def _apply_failsafe(self, action: FailsafeAction, reason: str) -> None:
+        if action == TERMINATE or action == DISARM:
+            self._terminate(reason, disarm_only=action == DISARM)
         else:
-            self._terminate(reason, disarm_only=action == 7)
+            self._failsafe_to(action, reason)
+
+    def _failsafe_offboard_lost(self, t: float) -> None:
+        self._apply_failsafe(OFFBOARD_LOSS_ACTIONS[self.params.get_int("COM_OBL_RC_ACT")], "offboard lost")
 
     def _check_datalink(self, t: float) -> None:
-        action = self.params.get_int("NAV_DLL_ACT")
-        if action == 0 or not self.armed or self._last_gcs_heartbeat_s is None or self._datalink_lost:
+        action = DATALINK_LOSS_ACTIONS[self.params.get_int("NAV_DLL_ACT")]
+        if action is None or not self.armed or self._last_gcs_heartbeat_s is None or self._datalink_lost:
             return
         if t - self._last_gcs_heartbeat_s <= self.params["COM_DL_LOSS_T"]:
             return
         self._datalink_lost = True
-        targets = {1: Px4Mode.AUTO_LOITER, 2: Px4Mode.AUTO_RTL, 3: Px4Mode.AUTO_LAND, 4: Px4Mode.AUTO_LAND}
-        if action in targets:
-            self._failsafe_to(targets[action], "GCS connection lost")
-        else:
-            self._terminate("GCS connection lost", disarm_only=action == 6)
+        self._apply_failsafe(action, "GCS connection lost")
 
     def _check_battery(self) -> None:
         remaining = self.battery_remaining
@@ -815,21 +820,19 @@ class Vehicle:
             return
         self._battery_checked = remaining
         level = 0
-        for i, name in enumerate(("BAT_LOW_THR", "BAT_CRIT_THR", "BAT_EMERGEN_THR"), start=1):
+        for i, name in enumerate(BATTERY_LEVELS, start=1):
             if remaining < self.params[name]:
                 level = i
         if level <= self._battery_level_reported:
             return
         self._battery_level_reported = level
         label = {1: "low", 2: "critical", 3: "emergency"}[level]
-        action = self.params.get_int("COM_LOW_BAT_ACT")
-        if not self.armed or action == 0 or level == 1 or self._landed_for(0.0):
-            self._pending.append(self._text(SEVERITY_CRITICAL if level > 1 else SEVERITY_WARNING, f"Battery {label}: {remaining * 100:.0f}% remaining"))
+        mode = battery_action(level, self.params.get_int("COM_LOW_BAT_ACT"))
+        if mode is None or not self.armed or self._landed_for(0.0):
+            severity = SEVERITY_CRITICAL if level > 1 else SEVERITY_WARNING
+            self._pending.append(self._text(severity, f"Battery {label}: {remaining * 100:.0f}% remaining"))
             return
-        if level == 3 or action == 2:
-            self._failsafe_to(Px4Mode.AUTO_LAND, f"battery {label}")
-        else:
-            self._failsafe_to(Px4Mode.AUTO_RTL, f"battery {label}")
+        self._failsafe_to(mode, f"battery {label}")
 
     def _landed_for(self, seconds: float) -> bool:
         return self._ground_since_s is not None and self._t_s - self._ground_since_s >= LAND_DETECT_S + seconds

@@ -90,10 +90,11 @@ def test_mavsdk_full_flight() -> None:
     asyncio.run(scenario())
 
 
-def test_mavsdk_offboard_loss_fallback_and_no_gps_vehicle_and_two_vehicles() -> None:
+def test_mavsdk_offboard_loss_fallback_and_no_gps_vehicle_and_two_vehicles_with_signing_key() -> None:
     async def scenario() -> None:
         configs = [VehicleConfig(0), VehicleConfig(1, has_gps=False, pad_enu_m=(1.5, 0.0, 0.0))]
-        with Fleet(configs, base_port=20210, gcs_port=20260, speed=SPEED) as fleet:
+        # with a signing key the GCS link requires signatures; the onboard link, where MAVSDK talks, stays unsigned
+        with Fleet(configs, base_port=20210, gcs_port=20260, speed=SPEED, signing_key=bytes(range(32))) as fleet:
             clients = [await connect(20210), await connect(20211)]
             try:
                 (m0, s0), (m1, s1) = clients
