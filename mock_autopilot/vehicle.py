@@ -38,7 +38,7 @@ from mock_autopilot.px4_failsafes import (
     battery_action,
 )
 from mock_autopilot.px4_modes import MODE_TABLE, Px4Mode, mode_allowed, mode_from_custom_mode, mode_from_numbers
-from mock_autopilot.px4_params import PARAM_INDEX, PARAM_SPECS, PARAM_TABLE, ParamError, ParamStore, ParamType
+from mock_autopilot.px4_params import PARAM_INDEX, PARAM_SPECS, PARAM_TABLE, ParamError, ParamStore
 from mock_autopilot.px4_params import decode_param_value, encode_param_value
 from mock_autopilot.px4_streams import DEFAULT_PROFILE, LINKS, stream_periods_s
 from mock_autopilot.setpoints import OffboardSetpoint, decode_position_target, velocity_command_ned
