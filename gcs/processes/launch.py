@@ -36,6 +36,8 @@ class ProcessOptions:
     """Mission seconds from start-up until every vehicle is airborne in OFFBOARD."""
     agent_link: str = "mavsdk"
     extra_agent_args: tuple[str, ...] = field(default=())
+    sim_faults: tuple[str, ...] = field(default=())
+    """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
 
 
 def effective_overrides(options: ProcessOptions) -> list[str]:
@@ -59,6 +61,7 @@ def sim_command(options: ProcessOptions, mission: str) -> list[str]:
         "--mission", mission, "--speed", f"{options.speed:g}",
         "--base-port", str(options.mavlink_base_port), "--gcs-port", str(options.gcs_port),
         "--cameras", "none", "--connect", options.zenoh_endpoint,
+        *[arg for fault in options.sim_faults for arg in ("--fault", fault)],
     ]
 
 

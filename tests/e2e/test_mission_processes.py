@@ -193,6 +193,40 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     assert killed_at_utc is not None
 
 
+def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(tmp_path: Path) -> None:
+    """Fault injection kills vehicle 6 (instance 5) in the fleet: no more heartbeats, its agent notices and exits
+    (code 3, vehicle lost), the ground station reports both, the mission completes."""
+    out = tmp_path / "run"
+    options = _options(out, 25900, duration_s=25.0, sim_faults=("kill:5@30",))
+    code = run_processes(load_scenario("circle"), options)
+    events = _read(out / "events.log")
+    assert code == 0, events[-3000:]
+    assert_no_orphans(out)
+    assert "vehicle 6 lost: no heartbeat" in events, events[-3000:]
+    assert "agent 6 exited with code 3" in events, events[-3000:]
+    assert "vehicle lost" in _read(out / "agent_6.log")
+    lost_at = _event_time(events, "vehicle 6 lost")
+    agent_gone_at = _event_time(events, "agent 6 exited")
+    assert agent_gone_at - lost_at < 3.0, "the agent must notice its dead vehicle within 3 s"
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert [loss["vehicle_id"] for loss in metrics["losses"]] == [6]
+
+
+def test_busy_zenoh_port_fails_cleanly(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    blocker = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    blocker.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    blocker.bind(("127.0.0.1", 25960))
+    blocker.listen(1)
+    try:
+        code = run_processes(load_scenario("circle"), _options(out, 25900))
+    finally:
+        blocker.close()
+    assert code == 1
+    assert "tcp/127.0.0.1:25960 is not free" in _read(out / "events.log")
+    assert pids_of_run(out) == {}
+
+
 def test_ctrl_c_stops_everything_and_keeps_the_record(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
     """SIGINT to ``python -m gcs.mission`` mid-flight: exit 130, no orphans, events and record on disk."""
     out = tmp_path / "run"
@@ -262,3 +296,10 @@ def _read(path: Path) -> str:
         return path.read_text()
     except OSError:
         return ""
+
+
+def _event_time(events: str, text: str) -> float:
+    """Wall time (seconds of the day) of the first event line holding ``text``."""
+    line = next(line for line in events.splitlines() if text in line)
+    hh, mm, ss = line.split()[0].split(":")
+    return int(hh) * 3600 + int(mm) * 60 + float(ss)
