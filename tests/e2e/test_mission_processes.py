@@ -93,11 +93,17 @@ def _check_outputs(out: Path, min_duration_s: float) -> dict[str, object]:
 def test_readme_mission_command_improved_meets_targets(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
     """The README's mission command (improved mode, shortened, own ports): the metrics say the mission worked."""
     out = tmp_path / "run"
+    hub = "tcp/127.0.0.1:25160"
     proc = mission_cli(["circle", "--mode", "improved", "--speed", str(CI_SPEED), "--duration", "20", "--out", str(out),
-                        "--base-port", "25100", "--gcs-port", "25150", "--no-live"], "tcp/127.0.0.1:25160")
+                        "--base-port", "25100", "--gcs-port", "25150", "--no-live"], hub)
+    polygons, states = _listen_to_public_keys(hub, "circle", proc)
     stdout, stderr = proc.communicate(timeout=240)
     assert proc.returncode == 0, stdout[-2000:] + stderr[-2000:]
     assert "mission complete" in stdout
+    assert polygons and polygons[-1].properties.area_m2 > 400.0, "the rescue centre's polygon key stayed silent"
+    lon, lat = polygons[-1].geometry.coordinates[0][0]
+    assert abs(lat - 47.3977) < 0.001 and abs(lon - 8.5456) < 0.001
+    assert set(states) == set(range(1, 14)), "every agent publishes its state on its public key"
     assert_no_orphans(out)
     s = _check_outputs(out, 18.0)["summary"]
     assert s["encircle_time_s"] is not None and s["encircle_time_s"] <= 20.0  # type: ignore[index]
@@ -155,7 +161,7 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     """kill -9 of a boundary agent: the GCS reports it within 2 s, its vehicle falls back, the mission completes."""
     out = tmp_path / "run"
     scenario = load_scenario("circle")
-    options = _options(out, 25200, duration_s=30.0)
+    options = _options(out, 25200, duration_s=22.0)
     station = GroundStation(scenario, options, _mkdir(out))
     result: dict[str, int] = {}
     runner = threading.Thread(target=lambda: result.setdefault("code", _run(station)))
@@ -163,7 +169,7 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     killed_at_utc = None
     try:
         deadline = time.monotonic() + 120.0
-        while time.monotonic() < deadline and not (station.phase == "mission" and station._flood_t_s() > 10.0):
+        while time.monotonic() < deadline and not (station.phase == "mission" and station._flood_t_s() > 8.0):
             time.sleep(0.1)
         assert station.phase == "mission", (out / "events.log").read_text()[-2000:]
         victim = pids_of_run(out)["agent_3"]
@@ -303,3 +309,37 @@ def _event_time(events: str, text: str) -> float:
     line = next(line for line in events.splitlines() if text in line)
     hh, mm, ss = line.split()[0].split(":")
     return int(hh) * 3600 + int(mm) * 60 + float(ss)
+
+
+def _listen_to_public_keys(hub: str, mission: str, proc: subprocess.Popen[str]) -> tuple[list, dict]:  # noqa: ANN401
+    """Join the running mission like an outside Zenoh client and collect its public polygon and state keys."""
+    from comms.keys import MissionKeys
+    from comms.messages import FloodPolygon, NeighbourState, decode
+    from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
+
+    keys = MissionKeys(mission)
+    polygons: list[FloodPolygon] = []
+    states: dict[int, NeighbourState] = {}
+    deadline = time.monotonic() + 30.0
+    session = None
+    while session is None and time.monotonic() < deadline and proc.poll() is None:
+        try:
+            session = ZenohSession(ZenohConfig.client(hub))
+        except ZenohOpenError:
+            time.sleep(0.5)
+    if session is None:
+        return polygons, states
+    with session:
+        polygon_buf = session.subscribe(keys.polygon)
+        state_buf = session.subscribe(keys.all_states)
+        while proc.poll() is None:
+            time.sleep(0.2)
+            for item in polygon_buf.drain():
+                polygon = decode(FloodPolygon, item.payload)
+                if polygon is not None:
+                    polygons.append(polygon)
+            for item in state_buf.drain():
+                state = decode(NeighbourState, item.payload)
+                if state is not None:
+                    states[state.sender_id] = state
+    return polygons, states
