@@ -100,6 +100,7 @@ class Agent:
         self._flood_clock_start_s: float | None = None
         self._command_seq = -1
         self._command: Command | None = None
+        self._command_wall_s: float | None = None
         self._retry_after_s: dict[Action, float] = {}
         self._last_setpoint: tuple[tuple[float, float, float], float] | None = None
         self._stop_requested = False
@@ -129,9 +130,13 @@ class Agent:
         while True:
             self._read_command()
             command = Command.STOP if self._stop_requested else self._command
-            phase, action = next_phase(self.phase, PhaseInputs(self.link.telemetry, time.monotonic(), command), cfg.limits)
+            now_wall_s = time.monotonic()
+            command_age_s = None if self._command_wall_s is None else now_wall_s - self._command_wall_s
+            phase, action = next_phase(self.phase, PhaseInputs(self.link.telemetry, now_wall_s, command, command_age_s),
+                                       cfg.limits)
             if phase is not self.phase:
-                log.info("vehicle %d: %s -> %s", cfg.vehicle_id, self.phase.value, phase.value)
+                log.info("vehicle %d: %s -> %s%s", cfg.vehicle_id, self.phase.value, phase.value,
+                         " (ground station silent)" if phase is Phase.HOLDING and command is not Command.HOLD else "")
                 self._on_transition(self.phase, phase)
                 self.phase = phase
             if action is Action.EXIT:
@@ -168,6 +173,7 @@ class Agent:
         if msg is None or msg.seq == self._command_seq:
             return
         self._command_seq = msg.seq
+        self._command_wall_s = time.monotonic()
         self.clock.observe(msg.t_s)
         if msg.target_ids and self.config.vehicle_id not in msg.target_ids:
             return

@@ -2,7 +2,8 @@
 
 The order is PX4's offboard recipe: connect, wait until the autopilot says it can arm, arm, take off (AUTO.TAKEOFF),
 stream a first setpoint and switch to OFFBOARD, hover until the ground station starts the mission, then run the
-control law. Any phase ends in LANDING or HOLDING on a ground-station command or a low battery, and in LINK_LOST
+control law. Any phase ends in LANDING or HOLDING on a ground-station command, a low battery or (during the mission) a ground
+station that fell silent, and in LINK_LOST
 when the autopilot falls silent (the agent then exits: it has nothing left to fly). When someone else takes the
 vehicle out of OFFBOARD during the mission (a pilot, a failsafe), the agent stops commanding it (OVERRIDDEN), as a
 PX4 offboard application should.
@@ -65,6 +66,9 @@ class PhaseLimits:
     """The same before take-off: on the ground nothing needs protecting, and a machine busy starting a whole
     fleet can delay telemetry by seconds."""
     low_battery_fraction: float = 0.15
+    gcs_link_timeout_s: float = 5.0
+    """Wall seconds without a ground-station command (it repeats them twice a second) after which a flying agent
+    holds position: the swarm should not keep working for a ground station that no longer watches it."""
 
 
 @dataclass(frozen=True)
@@ -72,6 +76,8 @@ class PhaseInputs:
     telemetry: AutopilotTelemetry
     now_monotonic_s: float
     command: Command | None = None
+    command_age_s: float | None = None
+    """Wall seconds since the last ground-station command; None before the first (no ground station yet)."""
 
 
 def next_phase(phase: Phase, inputs: PhaseInputs, limits: PhaseLimits) -> tuple[Phase, Action]:
@@ -89,6 +95,8 @@ def next_phase(phase: Phase, inputs: PhaseInputs, limits: PhaseLimits) -> tuple[
         if inputs.command is Command.LAND or tel.battery_fraction < limits.low_battery_fraction:
             return Phase.LANDING, Action.LAND
         if inputs.command is Command.HOLD:
+            return Phase.HOLDING, Action.HOLD
+        if phase is Phase.MISSION and inputs.command_age_s is not None and inputs.command_age_s > limits.gcs_link_timeout_s:
             return Phase.HOLDING, Action.HOLD
     if phase is Phase.CONNECTING:
         return (Phase.PREFLIGHT, Action.NONE) if tel.last_message_monotonic_s > 0.0 else (phase, Action.NONE)

@@ -230,7 +230,7 @@ class GroundStation:
                         raise MissionFailed(self._takeoff_problem(watcher))
                 elif self.phase == "mission":
                     self._record(watcher)
-                    flood_t_s = self._flood_t_s()
+                    flood_t_s = self.flood_time_s()
                     if flood_t_s >= self._next_polygon_t_s:
                         self._polygon(hub, flood_t_s)
                         self._next_polygon_t_s += self.scenario.polygon_period_s
@@ -261,7 +261,8 @@ class GroundStation:
     def _use_live(self) -> bool:
         return self.options.live and self.console.is_terminal
 
-    def _flood_t_s(self) -> float:
+    def flood_time_s(self) -> float:
+        """Flood clock [s]: 0 until every vehicle is airborne in OFFBOARD, then mission time since."""
         return 0.0 if self.flood_clock_start_s is None else self.mission_t_s - self.flood_clock_start_s
 
     def _command(self, hub: ZenohSession, command: str) -> None:
@@ -278,7 +279,7 @@ class GroundStation:
             if old is None or state.seq > old.seq:
                 self.states[state.sender_id] = state
             if state.encircle_complete and self.recorder.encircle_time_s is None and self.phase == "mission":
-                self.recorder.encircle_time_s = self._flood_t_s()
+                self.recorder.encircle_time_s = self.flood_time_s()
                 self.events(f"encircling complete (reported by vehicle {state.sender_id}) at flood time "
                             f"{self.recorder.encircle_time_s:.1f} s")
         for vid in update.alive:
@@ -316,7 +317,7 @@ class GroundStation:
 
     def _mark_lost(self, vid: int) -> None:
         if vid not in self.lost:
-            self.lost[vid] = self._flood_t_s()
+            self.lost[vid] = self.flood_time_s()
 
     def _everyone_up(self, watcher: MavlinkWatcher) -> bool:
         heard = all(vid in watcher.vehicles and watcher.vehicles[vid].last_heartbeat_monotonic_s for vid in self.vehicle_ids)
@@ -422,7 +423,7 @@ class GroundStation:
         encircled = sum(1 for vid in boundary if vid in self.states and self.states[vid].encircle_complete)
         return MissionSnapshot(
             scenario=self.scenario.name, mode=self.options.mode, phase=self.phase, mission_t_s=self.mission_t_s,
-            flood_t_s=None if self.flood_clock_start_s is None else self._flood_t_s(), duration_s=self.duration_s,
+            flood_t_s=None if self.flood_clock_start_s is None else self.flood_time_s(), duration_s=self.duration_s,
             speed=self.options.speed, vehicles=tuple(rows), encircled=encircled, boundary_count=len(boundary),
             encircle_time_s=self.recorder.encircle_time_s, polygon_iou=self.polygon_iou, coverage=self.coverage,
             polygon_area_m2=self.polygon_area_m2, events=tuple(self.events.recent),

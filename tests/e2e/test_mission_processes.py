@@ -169,7 +169,7 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     killed_at_utc = None
     try:
         deadline = time.monotonic() + 120.0
-        while time.monotonic() < deadline and not (station.phase == "mission" and station._flood_t_s() > 8.0):
+        while time.monotonic() < deadline and not (station.phase == "mission" and station.flood_time_s() > 8.0):
             time.sleep(0.1)
         assert station.phase == "mission", (out / "events.log").read_text()[-2000:]
         victim = pids_of_run(out)["agent_3"]

@@ -76,3 +76,13 @@ def test_on_the_ground_the_link_gets_more_patience() -> None:
     tel = replace(FRESH, ready_to_arm=False)
     assert step(Phase.PREFLIGHT, tel, now_s=105.0) == (Phase.PREFLIGHT, Action.NONE)
     assert step(Phase.PREFLIGHT, tel, now_s=111.0) == (Phase.LINK_LOST, Action.EXIT)
+
+
+def test_silent_ground_station_makes_a_flying_agent_hold() -> None:
+    flying = replace(FRESH, armed=True, in_air=True, flight_mode="OFFBOARD")
+    inputs = PhaseInputs(telemetry=flying, now_monotonic_s=100.1, command=Command.START, command_age_s=1.0)
+    assert next_phase(Phase.MISSION, inputs, LIMITS) == (Phase.MISSION, Action.FLY)
+    silent = replace(inputs, command_age_s=6.0)
+    assert next_phase(Phase.MISSION, silent, LIMITS) == (Phase.HOLDING, Action.HOLD)
+    never_heard = replace(inputs, command=None, command_age_s=None)
+    assert next_phase(Phase.STANDBY, never_heard, LIMITS) == (Phase.STANDBY, Action.HOVER)
