@@ -1,0 +1,119 @@
+"""What the ground looks like: seeded, world-anchored textures and the sensor's own noise and shading.
+
+Textures are periodic tiles fixed to the mission frame, so a scene stays put while the drone moves over it.
+They are built once per seed (fractal noise by spectral synthesis) and cached: rendering only samples them.
+Colours are chosen so land/water segmentation is a real task (grass, dry grass, bare soil, darker wet soil on
+the shore against murky, sky-reflecting water), not a lookup of two flat colours.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+
+TILE_PX = 512
+"""Texture tile side [px]; the tile repeats every ``TILE_PX * TILE_RESOLUTION_M`` metres."""
+TILE_RESOLUTION_M = 0.1
+"""Ground size of one texture pixel [m]."""
+NOISE_FRAMES = 8
+"""Sensor-noise frames kept per (seed, image size); one is picked per frame."""
+SENSOR_NOISE_SIGMA = 4.0
+"""Standard deviation of the additive sensor noise [digital numbers out of 255]."""
+
+# BGR colours (0-255) of the ground classes.
+_GRASS = np.array([55.0, 120.0, 80.0])
+_DRY_GRASS = np.array([70.0, 150.0, 150.0])
+_SOIL = np.array([70.0, 100.0, 130.0])
+WET_SOIL_BGR = (40.0, 55.0, 75.0)
+"""Colour the shoreline band darkens towards (BGR)."""
+_WATER_DEEP = np.array([120.0, 95.0, 70.0])
+_WATER_SKY = np.array([185.0, 165.0, 145.0])
+
+
+@dataclass(frozen=True)
+class GroundTextures:
+    """World-anchored texture tiles for one seed."""
+
+    land_bgr: NDArray[np.uint8]
+    """(TILE_PX, TILE_PX, 3) dry land: grass, dry grass and soil patches."""
+    water_bgr: NDArray[np.uint8]
+    """(TILE_PX, TILE_PX, 3) water: murky colour, sky reflections and ripples."""
+    wet_band_m: NDArray[np.float32]
+    """(TILE_PX, TILE_PX) width of the wet shoreline band at each place [m]."""
+
+
+@dataclass(frozen=True)
+class SensorEffects:
+    """Camera-fixed effects for one seed and image size."""
+
+    gain: NDArray[np.float32]
+    """(H, W) multiplicative lighting: a sun gradient across the image and lens vignetting."""
+    noise_bgr: NDArray[np.float32]
+    """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise."""
+
+
+def fractal_noise(size_px: int, spectral_exponent: float, rng: np.random.Generator) -> NDArray[np.float64]:
+    """Periodic fractal noise, zero mean and unit standard deviation: white noise shaped by ``1/f^exponent``."""
+    white = rng.standard_normal((size_px, size_px))
+    spectrum = np.fft.rfft2(white)
+    fy = np.fft.fftfreq(size_px)[:, None]
+    fx = np.fft.rfftfreq(size_px)[None, :]
+    f = np.hypot(fx, fy)
+    f[0, 0] = 1.0
+    spectrum *= f ** (-spectral_exponent)
+    spectrum[0, 0] = 0.0
+    field = np.fft.irfft2(spectrum, s=(size_px, size_px))
+    return (field - field.mean()) / max(float(field.std()), 1e-12)
+
+
+def _smoothstep(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+@lru_cache(maxsize=4)
+def ground_textures(seed: int) -> GroundTextures:
+    """The texture tiles of one seed (about 0.1 s to build, then cached)."""
+    rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x7E47])
+    n = TILE_PX
+    patches = fractal_noise(n, 1.6, rng)
+    dryness = fractal_noise(n, 1.4, rng)
+    detail = fractal_noise(n, 0.9, rng)
+    soil_w = _smoothstep((patches - 0.3) / 0.6)[..., None]
+    dry_w = _smoothstep((dryness - 0.2) / 0.8)[..., None]
+    land = (1.0 - soil_w) * ((1.0 - dry_w) * _GRASS + dry_w * _DRY_GRASS) + soil_w * _SOIL
+    land *= (1.0 + 0.12 * detail)[..., None]
+
+    sky = fractal_noise(n, 1.8, rng)
+    yy, xx = np.mgrid[0:n, 0:n] * (2.0 * math.pi / n)
+    ripple_dir = rng.uniform(0.0, math.pi)
+    ripples = np.sin(37.0 * (np.cos(ripple_dir) * xx + np.sin(ripple_dir) * yy) + 2.0 * sky)
+    sky_w = _smoothstep((sky + 1.0) / 3.0)[..., None] * 0.45
+    water = (1.0 - sky_w) * _WATER_DEEP + sky_w * _WATER_SKY
+    water *= (1.0 + 0.04 * ripples + 0.04 * detail)[..., None]
+
+    wet_band = 0.25 + 0.35 * _smoothstep((fractal_noise(n, 1.7, rng) + 1.5) / 3.0)
+    return GroundTextures(
+        land_bgr=np.clip(land, 0, 255).astype(np.uint8),
+        water_bgr=np.clip(water, 0, 255).astype(np.uint8),
+        wet_band_m=wet_band.astype(np.float32),
+    )
+
+
+@lru_cache(maxsize=16)
+def sensor_effects(seed: int, width_px: int, height_px: int) -> SensorEffects:
+    """Lighting gain and a bank of noise frames for one seed and image size (cached)."""
+    rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, width_px, height_px, 0x5E75])
+    y, x = np.mgrid[0:height_px, 0:width_px].astype(np.float64)
+    x = (x + 0.5) / width_px - 0.5
+    y = (y + 0.5) / height_px - 0.5
+    sun = rng.uniform(0.0, 2.0 * math.pi)
+    gradient = 0.14 * (math.cos(sun) * x + math.sin(sun) * y) / 0.5
+    vignette = -0.25 * (x * x + y * y)
+    gain = (1.0 + gradient + vignette).astype(np.float32)
+    noise = rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3)).astype(np.float32)
+    return SensorEffects(gain=gain, noise_bgr=noise)
