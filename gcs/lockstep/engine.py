@@ -7,8 +7,8 @@ flood clock starts when all are airborne), so take-off is not simulated here. Ea
 2. every drone broadcasts its state; the radio model delivers by range, loss and latency;
 3. every drone's camera frame is rendered and segmented (``render_frame`` + ``perceive``);
 4. ``control_step`` of its role gives a velocity setpoint;
-5. the ground station's caged polygon is rebuilt from the boundary drones' positions and edge points (each
-   ``polygon_period_s``);
+5. the ground station's caged polygon is rebuilt from the boundary drones' positions and the edge points their
+   state messages carry (each ``polygon_period_s``);
 6. ``step_kinematics`` moves every vehicle (PX4-like response and limits).
 """
 
@@ -37,6 +37,7 @@ from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
 from vehicle_agents.control.types import ROLE_BOUNDARY, OwnState
+from vehicle_agents.onboard_view import EDGE_POINTS_PER_MESSAGE
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import perceive
 
@@ -55,6 +56,15 @@ class LockstepResult:
     frames: int
     radio_heard: int
     radio_lost: int
+
+
+def reported_edge_points(points_en_m: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The edge points a boundary drone's state message carries: at most ``EDGE_POINTS_PER_MESSAGE``, evenly
+    subsampled, exactly as the per-process agent sends them (so both engines feed the same polygon)."""
+    points = np.asarray(points_en_m, dtype=float).reshape(-1, 2)
+    if len(points) > EDGE_POINTS_PER_MESSAGE:
+        points = points[np.linspace(0, len(points) - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)]
+    return points
 
 
 def _perception_for(
@@ -143,7 +153,8 @@ def run_lockstep(
             encircle_time_s = t_s
             events.append((t_s, "encircling complete: the two groups' leading drones met"))
         if t_s + 1e-9 >= next_polygon_t and ring_idx:
-            ring = caged_polygon(positions[ring_idx, :2], [memories[i].edge_points_en_m for i in ring_idx])
+            ring = caged_polygon(positions[ring_idx, :2],
+                                 [reported_edge_points(memories[i].edge_points_en_m) for i in ring_idx])
             polygons.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
             next_polygon_t += scenario.polygon_period_s
         if k < steps:
