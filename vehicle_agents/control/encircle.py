@@ -6,7 +6,9 @@ two groups' leading drones meet on the far side. Our rule, using only what a dro
 
 * a boundary drone is *leading* when it hears no drone of its own group with a lower departure rank (so the next
   one takes over if the leader is lost);
-* a leading drone declares the ring closed when it hears the other group's leading drone within
+* a leading drone declares the ring closed when it hears the other group's leading drone (one that says so in
+  its ``leading`` flag, or the lowest-ranked drone of that group it hears, so the rule holds even where the radio
+  message carries no flag) within
   ``meet_distance_m``, AHEAD of it in its direction of travel (at the launch site the other leader is behind),
   after flying at least ``min_encircle_travel_m`` along the edge;
 * every boundary drone that hears a neighbour saying ``encircled`` says so too: the news travels round the ring
@@ -54,8 +56,13 @@ def meets_other_leader(
     """A leading drone hears the other group's leading drone close ahead, far from the launch site."""
     if travelled_m < params.min_encircle_travel_m:
         return False
-    for n in neighbours:
-        if n.role != ROLE_BOUNDARY or not n.leading or n.group == entry.group:
+    others = [n for n in neighbours if n.role == ROLE_BOUNDARY and n.group is not None and n.group != entry.group]
+    if not others:
+        return False
+    ranks = {e.vehicle_id: e.rank for e in params.roster}
+    lowest = min(ranks.get(n.vehicle_id, 1 << 30) for n in others)
+    for n in others:
+        if not (n.leading or ranks.get(n.vehicle_id, 1 << 30) == lowest):
             continue
         rel = np.asarray(n.position_en_m, dtype=float) - own_en_m
         if float(np.hypot(rel[0], rel[1])) <= params.meet_distance_m and float(np.dot(rel, travel_dir_en)) > 0.0:

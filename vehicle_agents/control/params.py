@@ -10,7 +10,7 @@ and their order of departure, and which vehicle each follower tracks (eq 10's ``
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLES
@@ -181,7 +181,3 @@ def params_for_mode(mode: str, table: Mapping[str, Any], roster: tuple[RosterEnt
     values.update(fixed)
     return ControlParams(mode=mode, roster=roster, **values)
 
-
-def with_overrides(params: ControlParams, **changes: Any) -> ControlParams:
-    """A copy with some fields changed (validated again)."""
-    return replace(params, **changes)

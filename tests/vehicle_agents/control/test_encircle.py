@@ -29,7 +29,12 @@ def test_meeting_needs_the_other_leader_close_ahead_after_travelling() -> None:
     assert not meets_other_leader(ROSTER[0], own, north, ahead, 2.0, PARAMS)  # still at the launch site
     assert not meets_other_leader(ROSTER[0], own, north, behind, 30.0, PARAMS)
     assert not meets_other_leader(ROSTER[0], own, north, far, 30.0, PARAMS)
-    assert not meets_other_leader(ROSTER[0], own, north, not_leading, 30.0, PARAMS)
+    # no flag, but B's lowest rank heard: still B's leading drone
+    assert meets_other_leader(ROSTER[0], own, north, not_leading, 30.0, PARAMS)
+    roster = (*ROSTER, RosterEntry(4, "boundary", "B", 1))
+    params = ControlParams(roster=roster, meet_distance_m=10.0, min_encircle_travel_m=8.0)
+    b_follower_close = [_nb(4, "B", (0.0, 6.0)), _nb(3, "B", (0.0, 30.0))]
+    assert not meets_other_leader(roster[0], own, north, b_follower_close, 30.0, params)
     assert not meets_other_leader(ROSTER[0], own, north, [_nb(2, "A", (0.0, 6.0), leading=True)], 30.0, PARAMS)
 
 
