@@ -15,6 +15,8 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
+from mock_autopilot.world.fractal import fractal_noise
+
 TILE_PX = 512
 """Texture tile side [px]; the tile repeats every ``TILE_PX * TILE_RESOLUTION_M`` metres."""
 TILE_RESOLUTION_M = 0.1
@@ -30,6 +32,8 @@ _DRY_GRASS = np.array([70.0, 150.0, 150.0])
 _SOIL = np.array([70.0, 100.0, 130.0])
 WET_SOIL_BGR = (40.0, 55.0, 75.0)
 """Colour the shoreline band darkens towards (BGR)."""
+WET_BAND_UNIT_M = 0.004
+"""Resolution of the packed wet-band width [m per count]."""
 _WATER_DEEP = np.array([120.0, 95.0, 70.0])
 _WATER_SKY = np.array([185.0, 165.0, 145.0])
 
@@ -38,36 +42,21 @@ _WATER_SKY = np.array([185.0, 165.0, 145.0])
 class GroundTextures:
     """World-anchored texture tiles for one seed."""
 
-    land_bgr: NDArray[np.uint8]
-    """(TILE_PX, TILE_PX, 3) dry land: grass, dry grass and soil patches."""
+    land_bgrw: NDArray[np.uint8]
+    """(TILE_PX, TILE_PX, 4) dry land (grass, dry grass and soil patches) in BGR, and in the 4th channel the width
+    of the wet shoreline band at each place in units of ``WET_BAND_UNIT_M`` (packed so one lookup fetches both)."""
     water_bgr: NDArray[np.uint8]
     """(TILE_PX, TILE_PX, 3) water: murky colour, sky reflections and ripples."""
-    wet_band_m: NDArray[np.float32]
-    """(TILE_PX, TILE_PX) width of the wet shoreline band at each place [m]."""
 
 
 @dataclass(frozen=True)
 class SensorEffects:
     """Camera-fixed effects for one seed and image size."""
 
-    gain: NDArray[np.float32]
-    """(H, W) multiplicative lighting: a sun gradient across the image and lens vignetting."""
+    gain_bgr: NDArray[np.float32]
+    """(H, W, 3) multiplicative lighting: a sun gradient across the image and lens vignetting."""
     noise_bgr: NDArray[np.float32]
     """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise."""
-
-
-def fractal_noise(size_px: int, spectral_exponent: float, rng: np.random.Generator) -> NDArray[np.float64]:
-    """Periodic fractal noise, zero mean and unit standard deviation: white noise shaped by ``1/f^exponent``."""
-    white = rng.standard_normal((size_px, size_px))
-    spectrum = np.fft.rfft2(white)
-    fy = np.fft.fftfreq(size_px)[:, None]
-    fx = np.fft.rfftfreq(size_px)[None, :]
-    f = np.hypot(fx, fy)
-    f[0, 0] = 1.0
-    spectrum *= f ** (-spectral_exponent)
-    spectrum[0, 0] = 0.0
-    field = np.fft.irfft2(spectrum, s=(size_px, size_px))
-    return (field - field.mean()) / max(float(field.std()), 1e-12)
 
 
 def _smoothstep(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -98,9 +87,8 @@ def ground_textures(seed: int) -> GroundTextures:
 
     wet_band = 0.25 + 0.35 * _smoothstep((fractal_noise(n, 1.7, rng) + 1.5) / 3.0)
     return GroundTextures(
-        land_bgr=np.clip(land, 0, 255).astype(np.uint8),
+        land_bgrw=np.clip(np.dstack([land, wet_band / WET_BAND_UNIT_M]), 0, 255).astype(np.uint8),
         water_bgr=np.clip(water, 0, 255).astype(np.uint8),
-        wet_band_m=wet_band.astype(np.float32),
     )
 
 
@@ -114,6 +102,6 @@ def sensor_effects(seed: int, width_px: int, height_px: int) -> SensorEffects:
     sun = rng.uniform(0.0, 2.0 * math.pi)
     gradient = 0.14 * (math.cos(sun) * x + math.sin(sun) * y) / 0.5
     vignette = -0.25 * (x * x + y * y)
-    gain = (1.0 + gradient + vignette).astype(np.float32)
+    gain = np.repeat((1.0 + gradient + vignette)[..., None], 3, axis=2).astype(np.float32)
     noise = rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3)).astype(np.float32)
-    return SensorEffects(gain=gain, noise_bgr=noise)
+    return SensorEffects(gain_bgr=gain, noise_bgr=noise)

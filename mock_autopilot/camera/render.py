@@ -22,6 +22,7 @@ from mock_autopilot.camera.appearance import (
     NOISE_FRAMES,
     TILE_PX,
     TILE_RESOLUTION_M,
+    WET_BAND_UNIT_M,
     WET_SOIL_BGR,
     ground_textures,
     sensor_effects,
@@ -108,28 +109,42 @@ def render_frame(
     inner = points[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
-    scale = 1.0 / TILE_RESOLUTION_M
-    map_x = np.mod(inner[..., 0] * scale, TILE_PX).astype(np.float32)
-    map_y = np.mod(-inner[..., 1] * scale, TILE_PX).astype(np.float32)
-    land = cv2.remap(textures.land_bgr, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
-    water_tex = cv2.remap(textures.water_bgr, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
-
-    colour = land.astype(np.float32)
+    map_x, map_y = _texture_maps(inner, (float(pos[0]), float(pos[1])))
+    land = cv2.remap(textures.land_bgrw, map_x, map_y, cv2.INTER_NEAREST, borderMode=cv2.BORDER_WRAP)
+    colour = land[..., :3]
     if water_padded.any():
-        land_u8 = (~water_padded).view(np.uint8)
-        distance_m = cv2.distanceTransform(land_u8, cv2.DIST_L2, 3)[m : m + h, m : m + w] * np.float32(gsd)
-        band_m = cv2.remap(textures.wet_band_m, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
-        wetness = np.clip(1.0 - distance_m / band_m, 0.0, 1.0) * _WET_STRENGTH
-        colour += wetness[..., None] * (np.asarray(WET_SOIL_BGR, np.float32) - colour)
-        colour[water] = water_tex[water]
+        distance_px = cv2.distanceTransform((~water_padded).view(np.uint8), cv2.DIST_L2, 3)[m : m + h, m : m + w]
+        band_px = land[..., 3].astype(np.float32) * np.float32(WET_BAND_UNIT_M / gsd)
+        wetness = cv2.max(1.0 - distance_px / band_px, 0.0) * np.float32(_WET_STRENGTH)
+        colour = cv2.blendLinear(colour, _wet_soil_image(w, h), 1.0 - wetness, wetness)
+        water_tex = cv2.remap(textures.water_bgr, map_x, map_y, cv2.INTER_NEAREST, borderMode=cv2.BORDER_WRAP)
+        colour = cv2.copyTo(water_tex, water.view(np.uint8), colour)
 
     effects = sensor_effects(seed, w, h)
-    colour *= effects.gain[..., None]
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
-    colour += effects.noise_bgr[_noise_index(t_s, pos, seed)]
-    image = np.clip(colour, 0.0, 255.0).astype(np.uint8)
+    shaded = cv2.multiply(colour, effects.gain_bgr, dtype=cv2.CV_32F)
+    shaded = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)])
+    image = np.clip(shaded, 0.0, 255.0).astype(np.uint8)
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
 
+
+
+def _texture_maps(
+    points_en_m: NDArray[np.float64], anchor_en_m: tuple[float, float]
+) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Texture-tile pixel coordinates of ground points; the tile repeats, so only the anchor's tile offset matters."""
+    scale = 1.0 / TILE_RESOLUTION_M
+    tile_m = TILE_PX * TILE_RESOLUTION_M
+    origin_e = math.floor(anchor_en_m[0] / tile_m) * tile_m
+    origin_n = math.floor(-anchor_en_m[1] / tile_m) * tile_m
+    map_x = ((points_en_m[..., 0] - origin_e) * scale).astype(np.float32)
+    map_y = ((-points_en_m[..., 1] - origin_n) * scale).astype(np.float32)
+    return map_x, map_y
+
+
+@lru_cache(maxsize=8)
+def _wet_soil_image(width_px: int, height_px: int) -> NDArray[np.uint8]:
+    return np.broadcast_to(np.asarray(WET_SOIL_BGR, np.uint8), (height_px, width_px, 3)).copy()
 
 
 def _noise_index(t_s: float, position_enu_m: NDArray[np.float64], seed: int) -> int:
