@@ -240,10 +240,7 @@ class Fleet:
                 self.tick_overruns += 1
                 next_wall = time.monotonic()
                 delay = 0.0
-            try:
-                await asyncio.wait_for(self._stop.wait(), timeout=delay)
-            except asyncio.TimeoutError:
-                pass
+            await asyncio.sleep(delay)  # stop is noticed within one tick; cheaper than wait_for on the event
 
     def _apply_due_faults(self, now_s: float) -> None:
         while self._faults and self._faults[0].at_s <= now_s:
