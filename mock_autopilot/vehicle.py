@@ -224,6 +224,11 @@ class Vehicle:
     def battery_current_a(self) -> float:
         return HOVER_CURRENT_A if self.armed else 0.5
 
+    @property
+    def setpoint_received_s(self) -> float:
+        """Simulated time [s] the newest valid offboard setpoint arrived (-inf before the first)."""
+        return self._setpoint_t_s
+
     def offboard_fresh(self, now_s: float) -> bool:
         """Offboard proof of life: the newest valid setpoint is younger than COM_OF_LOSS_T."""
         return now_s - self._setpoint_t_s <= self.params["COM_OF_LOSS_T"]

@@ -105,8 +105,9 @@ def test_arm_takeoff_loiter_land_auto_disarm() -> None:
     assert h.command(400, 1) == ACCEPTED
     assert h.command(400, 1) == ACCEPTED  # idempotent
     assert h.command(22, NAN, NAN, NAN, NAN, NAN, NAN, NAN) == ACCEPTED
-    h.run(0.3)
-    assert h.last("HEARTBEAT") is not None
+    h.run(1.0)
+    assert h.last("HEARTBEAT").custom_mode == custom_mode(Px4Mode.AUTO_TAKEOFF)
+    assert h.last("HEARTBEAT").base_mode & 128 and h.last("HEARTBEAT").system_status == 4
     assert h.vehicle.mode is Px4Mode.AUTO_TAKEOFF and h.vehicle.landed_state is LandedState.TAKEOFF
     h.run(8.0)
     assert h.vehicle.mode is Px4Mode.AUTO_LOITER
