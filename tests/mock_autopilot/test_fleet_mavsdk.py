@@ -130,3 +130,37 @@ def test_mavsdk_offboard_loss_fallback_and_no_gps_vehicle_and_two_vehicles_with_
                 clients[0][0].destroy()
 
     asyncio.run(scenario())
+
+
+def test_mavsdk_goto_hold_and_return_to_launch() -> None:
+    async def scenario() -> None:
+        with Fleet([VehicleConfig(0, pad_enu_m=(5.0, 5.0, 0.0))], base_port=20220, gcs_port=20270, speed=SPEED) as fleet:
+            mavsdk, system = await connect(20220)
+            try:
+                telemetry, action = TelemetryAsync(system), ActionAsync(system)
+                await wait_for(telemetry.health, lambda h: h.is_home_position_ok and h.is_armable)
+                await action.set_return_to_launch_altitude(8.0)
+                assert fleet.vehicles[0].params["RTL_RETURN_ALT"] == 8.0
+                await action.set_takeoff_altitude(4.0)
+                await action.arm()
+                await action.takeoff()
+                await wait_truth(fleet, lambda t: t.modes[0] == "AUTO.LOITER" and t.position_enu_m[0][2] > 3.8)
+                home = await telemetry.home()
+                position = await telemetry.position()
+                # 10 m north of the pad: 1 deg of latitude is ~111.2 km on the projection's sphere
+                await action.goto_location(position.latitude_deg + 10.0 / 111_195.0, position.longitude_deg,
+                                           position.absolute_altitude_m + 2.0, 0.0)
+                truth = await wait_truth(fleet, lambda t: abs(t.position_enu_m[0][1] - 15.0) < 0.3 and abs(t.velocity_enu_mps[0][1]) < 0.1)
+                assert truth.position_enu_m[0] == pytest.approx([5.0, 15.0, 6.0], abs=0.4)
+                await action.hold()
+                await action.return_to_launch()
+                await wait_truth(fleet, lambda t: t.modes[0] == "AUTO.RTL")
+                await wait_truth(fleet, lambda t: t.position_enu_m[0][2] > 7.7)  # climbs to RTL_RETURN_ALT first
+                await wait_for(telemetry.armed, lambda armed: not armed, timeout_s=40)
+                truth = fleet.truth()
+                assert truth.position_enu_m[0] == pytest.approx([5.0, 5.0, 0.0], abs=0.6)
+                assert home.relative_altitude_m == pytest.approx(0.0, abs=0.1)
+            finally:
+                mavsdk.destroy()
+
+    asyncio.run(scenario())
