@@ -171,6 +171,7 @@ class Fleet:
     async def _main(self) -> None:
         self._stop = asyncio.Event()
         self.clock = SimClock(self._speed)
+        self.vehicles, self.links = [], []
         now = self.clock.now_s()
         try:
             for i, config in enumerate(self.configs):
