@@ -134,6 +134,8 @@ class Fleet:
         """Bind every link and start the loop thread; raises OSError if a port is taken."""
         if self._thread is not None:
             raise RuntimeError("fleet already started")
+        self._started.clear()
+        self._start_error = None
         self._thread = threading.Thread(target=self._thread_main, name="mock-autopilot-fleet", daemon=True)
         self._thread.start()
         self._started.wait()
