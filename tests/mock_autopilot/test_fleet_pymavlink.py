@@ -181,3 +181,14 @@ def test_fault_api_drop_delay_kill_gps_battery() -> None:
         assert not fleet.truth().alive[1]
         c0.close()
         c1.close()
+
+
+def test_start_failure_raises_and_leaves_nothing_running() -> None:
+    fleet = Fleet(1, base_port=20195, gcs_port=20196, host="203.0.113.1")  # TEST-NET: cannot bind here
+    with pytest.raises(OSError):
+        fleet.start()
+    assert fleet._thread is None
+    with pytest.raises(ValueError):
+        Fleet([])
+    with pytest.raises(ValueError):
+        Fleet([VehicleConfig(0), VehicleConfig(1, system_id=1)])
