@@ -31,18 +31,12 @@ class PerceptionResult:
     """Unit vector along the edge with water on its left (counter-clockwise round the flood)."""
     edge_points_en_m: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
     """Boundary pixels seen, as (K, 2) offsets from the drone [m; east, north]."""
-    water_centroid_px: tuple[float, float] | None = None
+    water_centroid_px: NDArray[np.float64] | None = None
     """Water centroid in the image [px; column, row from the top-left corner, pixel centres at +0.5]."""
-    land_centroid_px: tuple[float, float] | None = None
+    land_centroid_px: NDArray[np.float64] | None = None
     """Land centroid in the image [px; column, row]."""
     ground_sample_m: float = float("nan")
     """Ground distance of one pixel [m/px] at the altitude given."""
-    water_centroid_px: NDArray[np.float64] | None = None
-    """Water centroid in the image (x right, y down) [px], pixel centres at half-integers."""
-    land_centroid_px: NDArray[np.float64] | None = None
-    """Land centroid in the image (x right, y down) [px]."""
-    ground_sample_m: float = 0.0
-    """Ground distance of one pixel [m/px]; 0 when unknown."""
 
     @staticmethod
     def no_measurement(footprint_side_m: float = 0.0) -> "PerceptionResult":

@@ -1,20 +1,22 @@
-"""Land/water segmentation of the downward camera image and the measurement of eq 5 (paper §III-A.1, Alg. 1).
+"""Land/water segmentation of the downward camera image and what eq 5 and Algorithm 1 need from it (paper §III-A.1).
 
-The segmentation is told nothing about the scene: water is told from land by colour alone. In CIE L*a*b* the b*
-axis runs blue -> yellow; water (blue-grey, reflecting the sky) sits below neutral, vegetation and soil, wet or
-dry, above it. We smooth b*, split it with Otsu's threshold, and keep Otsu's split only when it looks like
-water against land (the darker class is bluish, the lighter is not, and they are well apart); otherwise the
-image holds one class and a fixed colour threshold says which. Morphological opening and closing remove specks.
+The perception is never told the truth. Water reflects the sky and is blue-grey; grass, dry grass, soil and wet
+shoreline soil are green-to-brown, so the blue-minus-red chroma axis (``(B − R)/2 + 128``) separates the two in
+every lighting (the lighting scales B and R alike): a per-frame Otsu threshold on that axis splits the pixels into two classes, and a small opening
+and closing remove sensor-noise speckle. When Otsu's two classes are not really different (the frame holds only
+one kind of ground), the frame is all land or all water, told apart by the sign of the chroma: Algorithm 1's climb
+rule. Otsu's threshold is trusted only near neutral grey (B = R): far from it, Otsu has split one class into two
+(grass and dry grass), and the neutral threshold decides. Pixels become ground offsets with the nadir pinhole geometry of SPEC §3 (ground sample
+``2 h tan(fov/2) / W`` metres per pixel), rotated by the vehicle's yaw into east/north.
 
-From the mask: the water fraction, the land and water centroids, their midpoint ``p`` relative to the drone
-(eq 5's ``p − q``, in metres east/north after rotating by the yaw), the edge normal and tangent, and the edge
-pixels as metric offsets. Nothing here raises on bad input: unusable frames give ``no_measurement()``.
+Bad input (not an image, wrong size, black, saturated, featureless, NaN altitude, bad field of view) gives
+``PerceptionResult.no_measurement()``; nothing raises.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import Any
 
 import cv2
 import numpy as np
@@ -23,188 +25,182 @@ from numpy.typing import NDArray
 from comms.frames import yaw_ned_to_enu_rad
 from vehicle_agents.perception.result import PerceptionResult
 
+MIN_SIDE_PX = 8
+"""Smallest image side accepted [px]."""
+MAX_SIDE_PX = 4096
+"""Largest image side accepted [px]."""
+MIN_CLASS_FRACTION = 0.005
+"""A class covering less of the image than this is treated as absent (noise, a few stray pixels)."""
+NEUTRAL_CHROMA = 128.0
+"""Chroma of grey (B = R): water, which mirrors the sky, lies above it; vegetation and soil below."""
+MAX_THRESHOLD_SHIFT = 12.0
+"""Otsu's threshold is used only within this distance of neutral [DN]; further away it has split one class (grass
+from dry grass, say, in a frame with little or no water), and the neutral threshold is used instead."""
+MIN_CHROMA_SEPARATION = 10.0
+"""Otsu's two classes must differ by this much on the chroma axis [DN of (B − R)/2] to be two kinds of ground."""
+DARK_MEAN_DN = 12.0
+"""A frame darker than this on average is a black (failed or covered) camera."""
+SATURATED_FRACTION = 0.9
+"""A frame with this share of pixels at 255 in every channel is blown out."""
+FLAT_STD_DN = 1.0
+"""A frame whose grey level varies less than this holds no scene (a test pattern or a frozen sensor)."""
+MAX_EDGE_POINTS = 64
+"""At most this many edge points are returned (evenly taken along the edge)."""
 
-@dataclass(frozen=True)
-class SegmentationParams:
-    """Tuning of the colour segmentation (b* values are OpenCV 8-bit Lab: 128 is neutral)."""
-
-    neutral_b: float = 131.0
-    """Fixed b* threshold used when the image holds only one class: below it is water."""
-    water_max_b: float = 128.0
-    """Otsu's darker class must have a mean b* below this to be water (bluish)."""
-    land_min_b: float = 134.0
-    """Otsu's lighter class must have a mean b* above this to be land (yellowish/greenish)."""
-    min_class_gap_b: float = 12.0
-    """Otsu's two classes must differ by at least this much in mean b*."""
-    blur_px: int = 5
-    """Side of the Gaussian smoothing kernel applied to b* before thresholding."""
-    morphology_px: int = 3
-    """Side of the elliptical opening/closing kernel."""
-    min_region_fraction: float = 0.005
-    """A class covering less than this fraction of the image counts as absent (Algorithm 1's test)."""
-    max_edge_points: int = 64
-    """At most this many edge points are reported (evenly spread along the edge)."""
-    dark_level: float = 12.0
-    """Mean grey level below which the frame is too dark to use."""
-    saturated_fraction: float = 0.5
-    """Frames with more than this fraction of saturated pixels are unusable."""
-
-
-DEFAULT_PARAMS = SegmentationParams()
-
-
-def _usable_image(image_bgr: object) -> NDArray[np.uint8] | None:
-    """The image as contiguous (H, W, 3) uint8 BGR, or None if it is not a usable colour frame."""
-    if not isinstance(image_bgr, np.ndarray) or image_bgr.dtype != np.uint8 or image_bgr.ndim != 3:
-        return None
-    if image_bgr.shape[2] == 4:
-        image_bgr = image_bgr[..., :3]
-    if image_bgr.shape[2] != 3 or image_bgr.shape[0] < 8 or image_bgr.shape[1] < 8:
-        return None
-    return np.ascontiguousarray(image_bgr)
-
-
-def segment_water(image_bgr: object, params: SegmentationParams = DEFAULT_PARAMS) -> NDArray[np.bool_] | None:
-    """(H, W) water mask of a BGR camera frame, or None when the frame is unusable (not a colour image,
-    too small, black or saturated)."""
-    image = _usable_image(image_bgr)
-    if image is None:
-        return None
-    grey = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-    if float(grey.mean()) < params.dark_level:
-        return None
-    if np.count_nonzero(grey >= 250) > params.saturated_fraction * grey.size:
-        return None
-    b_star = cv2.cvtColor(image, cv2.COLOR_BGR2Lab)[..., 2]
-    k = params.blur_px | 1
-    b_star = cv2.GaussianBlur(b_star, (k, k), 0)
-    threshold, upper = cv2.threshold(b_star, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
-    upper_mask = upper.view(bool)
-    n_upper = int(np.count_nonzero(upper_mask))
-    n_total = upper_mask.size
-    otsu_ok = 0 < n_upper < n_total
-    if otsu_ok:
-        total = float(b_star.sum(dtype=np.float64))
-        upper_sum = float(b_star[upper_mask].sum(dtype=np.float64))
-        mean_upper = upper_sum / n_upper
-        mean_lower = (total - upper_sum) / (n_total - n_upper)
-        otsu_ok = (
-            mean_lower < params.water_max_b
-            and mean_upper > params.land_min_b
-            and mean_upper - mean_lower >= params.min_class_gap_b
-        )
-    if otsu_ok:
-        water = cv2.bitwise_not(upper)
-    else:
-        _, water = cv2.threshold(b_star, params.neutral_b, 255, cv2.THRESH_BINARY_INV)
-    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (params.morphology_px, params.morphology_px))
-    water = cv2.morphologyEx(water, cv2.MORPH_OPEN, kernel)
-    water = cv2.morphologyEx(water, cv2.MORPH_CLOSE, kernel)
-    return water.view(bool)
-
-
-def _edge_pixels(water_u8: NDArray[np.uint8], max_points: int) -> NDArray[np.float64]:
-    """Shoreline pixels in order along the edge [px; column, row of pixel centres], without the image border."""
-    h, w = water_u8.shape
-    contours, _ = cv2.findContours(water_u8, cv2.RETR_LIST, cv2.CHAIN_APPROX_NONE)
-    chains = []
-    for contour in contours:
-        pts = contour.reshape(-1, 2)
-        inside = (pts[:, 0] > 0) & (pts[:, 0] < w - 1) & (pts[:, 1] > 0) & (pts[:, 1] < h - 1)
-        if np.count_nonzero(inside) >= 3:
-            chains.append(pts[inside])
-    if not chains:
-        return np.zeros((0, 2))
-    pts = np.concatenate(chains).astype(np.float64) + 0.5
-    if len(pts) > max_points:
-        pts = pts[np.linspace(0, len(pts) - 1, max_points).round().astype(int)]
-    return pts
+_OPEN_KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 
 
 def perceive(
-    image_bgr: object,
+    image_bgr: Any,
     altitude_m: float,
     fov_deg: float,
     yaw_ned_rad: float = 0.0,
-    params: SegmentationParams = DEFAULT_PARAMS,
+    *,
+    max_edge_points: int = MAX_EDGE_POINTS,
 ) -> PerceptionResult:
-    """Measure the flood edge in one downward camera frame (eq 5, Algorithm 1).
+    """Segment one downward frame and measure, relative to the drone, what eq 5 and Algorithm 1 use.
 
-    ``altitude_m`` is the height above the ground, ``fov_deg`` the horizontal field of view (across the image
-    width), ``yaw_ned_rad`` the PX4 yaw used to turn image axes into east/north. Never raises: unusable images,
-    non-finite or non-positive altitude, a field of view outside (0, 180) or a non-finite yaw give
-    ``PerceptionResult.no_measurement()``.
+    ``image_bgr``: (H, W, 3) uint8 BGR, image up = vehicle forward. ``altitude_m``: height above the ground [m].
+    ``fov_deg``: horizontal field of view across the image width. ``yaw_ned_rad``: PX4 yaw (clockwise from north),
+    used to rotate image axes into east/north. Never raises: unusable input gives ``no_measurement()``.
     """
     try:
-        return _perceive(image_bgr, float(altitude_m), float(fov_deg), float(yaw_ned_rad), params)
-    except (TypeError, ValueError, cv2.error):
+        return _perceive(image_bgr, altitude_m, fov_deg, yaw_ned_rad, max_edge_points)
+    except (ValueError, TypeError, cv2.error, FloatingPointError, OverflowError):
         return PerceptionResult.no_measurement()
+
+
+def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
+    """(water mask or None for a one-class frame, chroma image, threshold) for a valid (H, W, 3) uint8 image.
+
+    The chroma is ``(B − R)/2 + 128`` (uint8); water is the high side of the threshold: Otsu's, when it falls
+    near neutral, else neutral. A one-class frame returns None as mask and the neutral chroma as threshold, for
+    deciding which class it is.
+    """
+    blue, _, red = cv2.split(image_bgr)
+    chroma = cv2.addWeighted(blue, 0.5, red, -0.5, 128.0)
+    otsu, _ = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    threshold = float(otsu) if abs(float(otsu) - NEUTRAL_CHROMA) <= MAX_THRESHOLD_SHIFT else NEUTRAL_CHROMA
+    _, binary = cv2.threshold(chroma, threshold, 1, cv2.THRESH_BINARY)
+    high = binary.view(bool)
+    n_high = int(np.count_nonzero(high))
+    n = high.size
+    if n_high == 0 or n_high == n:
+        return None, chroma, NEUTRAL_CHROMA
+    total = float(chroma.sum(dtype=np.float64))
+    sum_high = float(chroma[high].sum(dtype=np.float64))
+    mean_high = sum_high / n_high
+    mean_low = (total - sum_high) / (n - n_high)
+    if mean_high - mean_low < MIN_CHROMA_SEPARATION:
+        return None, chroma, NEUTRAL_CHROMA
+    binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, _OPEN_KERNEL)
+    binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, _OPEN_KERNEL)
+    return binary.astype(bool), chroma, float(threshold)
+
+
+def _usable_image(image: Any) -> NDArray[np.uint8] | None:
+    """The frame as contiguous (H, W, 3) uint8 BGR (an alpha channel is dropped), or None if it is not one."""
+    if not isinstance(image, np.ndarray) or image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] not in (3, 4):
+        return None
+    h, w = image.shape[:2]
+    if not (MIN_SIDE_PX <= h <= MAX_SIDE_PX and MIN_SIDE_PX <= w <= MAX_SIDE_PX):
+        return None
+    return np.ascontiguousarray(image[..., :3])
+
+
+def _unusable_exposure(image: NDArray[np.uint8]) -> bool:
+    grey = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    mean, std = cv2.meanStdDev(grey)
+    if float(mean[0, 0]) < DARK_MEAN_DN or float(std[0, 0]) < FLAT_STD_DN:
+        return True
+    saturated = np.count_nonzero(cv2.inRange(image, (255, 255, 255), (255, 255, 255)))
+    return saturated >= SATURATED_FRACTION * grey.size
 
 
 def _perceive(
-    image_bgr: object, altitude_m: float, fov_deg: float, yaw_ned_rad: float, params: SegmentationParams
+    image: Any, altitude_m: float, fov_deg: float, yaw_ned_rad: float, max_edge_points: int
 ) -> PerceptionResult:
-    if not (math.isfinite(altitude_m) and altitude_m > 0.0 and math.isfinite(yaw_ned_rad)):
+    altitude_m, fov_deg, yaw_ned_rad = float(altitude_m), float(fov_deg), float(yaw_ned_rad)
+    if not (math.isfinite(altitude_m) and altitude_m > 0.0 and math.isfinite(fov_deg) and 0.0 < fov_deg < 170.0):
         return PerceptionResult.no_measurement()
-    if not (math.isfinite(fov_deg) and 0.0 < fov_deg < 180.0):
+    image = _usable_image(image) if math.isfinite(yaw_ned_rad) else None
+    if image is None:
         return PerceptionResult.no_measurement()
-    water = segment_water(image_bgr, params)
-    if water is None:
-        return PerceptionResult.no_measurement()
-    h, w = water.shape
+    h, w = image.shape[:2]
     footprint_m = 2.0 * altitude_m * math.tan(math.radians(fov_deg) / 2.0)
+    if _unusable_exposure(image):
+        return PerceptionResult.no_measurement(footprint_m)
     gsd = footprint_m / w
-
-    water_u8 = water.view(np.uint8)
-    n_water = int(np.count_nonzero(water_u8))
-    fraction = n_water / water.size
-    only_water = fraction >= 1.0 - params.min_region_fraction
-    only_land = fraction <= params.min_region_fraction
-    if only_water or only_land:
+    mask, chroma, threshold = segment_water(image)
+    if mask is None:
+        only_water = float(chroma.mean()) > threshold
         return PerceptionResult(
             has_edge=False,
-            water_fraction=fraction,
-            only_land=only_land,
+            water_fraction=1.0 if only_water else 0.0,
+            only_land=not only_water,
             only_water=only_water,
             footprint_side_m=footprint_m,
             ground_sample_m=gsd,
         )
 
-    # Image axes -> world: image right = vehicle right, image up = vehicle forward.
+    n = h * w
+    m = cv2.moments(mask.view(np.uint8), binaryImage=True)
+    n_water = m["m00"]
+    water_fraction = n_water / n
+    if water_fraction < MIN_CLASS_FRACTION or water_fraction > 1.0 - MIN_CLASS_FRACTION:
+        only_water = water_fraction > 0.5
+        return PerceptionResult(
+            has_edge=False,
+            water_fraction=float(water_fraction),
+            only_land=not only_water,
+            only_water=only_water,
+            footprint_side_m=footprint_m,
+            ground_sample_m=gsd,
+        )
+
+    # Pixel-centre moments (x = column + 0.5, y = row + 0.5); the whole image's are known in closed form.
+    water_px = np.array([m["m10"] / n_water + 0.5, m["m01"] / n_water + 0.5])
+    all_sum = np.array([n * w / 2.0, n * h / 2.0])
+    land_px = (all_sum - water_px * n_water) / (n - n_water)
+
     heading = yaw_ned_to_enu_rad(yaw_ned_rad)
-    forward_en = np.array([math.cos(heading), math.sin(heading)])
-    right_en = np.array([forward_en[1], -forward_en[0]])
+    fwd = np.array([math.cos(heading), math.sin(heading)])
+    right = np.array([fwd[1], -fwd[0]])
+    centre = np.array([w / 2.0, h / 2.0])
 
-    def to_en_m(px: NDArray[np.float64]) -> NDArray[np.float64]:
-        right_m = (px[..., 0] - w / 2.0) * gsd
-        forward_m = (h / 2.0 - px[..., 1]) * gsd
-        return right_m[..., None] * right_en + forward_m[..., None] * forward_en
+    def to_en(xy_px: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Image points (x right, y down) [px] -> ground offsets from the drone [m; east, north]."""
+        d = (np.asarray(xy_px, dtype=float) - centre) * gsd
+        return d[..., 0:1] * right - d[..., 1:2] * fwd
 
-    m_all = cv2.moments(np.ones_like(water_u8), binaryImage=True)
-    m_water = cv2.moments(water_u8, binaryImage=True)
-    n_land = water.size - n_water
-    water_px = np.array([m_water["m10"] / n_water, m_water["m01"] / n_water]) + 0.5
-    land_px = np.array([(m_all["m10"] - m_water["m10"]) / n_land, (m_all["m01"] - m_water["m01"]) / n_land]) + 0.5
-    water_en = to_en_m(water_px)
-    land_en = to_en_m(land_px)
+    water_en = to_en(water_px)
+    land_en = to_en(land_px)
+    edge_px = _edge_points_px(mask, chroma, threshold)
+    edge_en = to_en(edge_px) if edge_px.shape[0] else np.zeros((0, 2))
 
     normal = land_en - water_en
-    normal /= max(float(np.linalg.norm(normal)), 1e-12)
-    edge_px = _edge_pixels(water_u8, params.max_edge_points)
-    edge_en = to_en_m(edge_px) if len(edge_px) else np.zeros((0, 2))
-    if len(edge_en) >= 6:
+    if edge_en.shape[0] >= 2:
         centred = edge_en - edge_en.mean(axis=0)
-        _, singular, vt = np.linalg.svd(centred, full_matrices=False)
-        if singular[0] > 2.0 * singular[1]:
-            pca_normal = np.array([-vt[0, 1], vt[0, 0]])
-            normal = pca_normal if pca_normal @ normal >= 0.0 else -pca_normal
-    # Contour pixels are the water-side row of the edge; the shoreline lies half a pixel towards land.
-    if len(edge_en):
-        edge_en = edge_en + 0.5 * gsd * normal
+        _, vecs = np.linalg.eigh(centred.T @ centred)
+        tangent_axis = vecs[:, 1]
+        pca_normal = np.array([-tangent_axis[1], tangent_axis[0]])
+        normal = pca_normal if float(pca_normal @ normal) >= 0.0 else -pca_normal
+    length = float(np.hypot(normal[0], normal[1]))
+    if length <= 0.0 or not math.isfinite(length):
+        return PerceptionResult.no_measurement(footprint_m)
+    normal = normal / length
     tangent = np.array([-normal[1], normal[0]])
+
+    if edge_en.shape[0] > 0:
+        order = np.argsort(edge_en @ tangent, kind="stable")
+        edge_en = edge_en[order]
+        if edge_en.shape[0] > max_edge_points > 0:
+            keep = np.linspace(0, edge_en.shape[0] - 1, max_edge_points).round().astype(int)
+            edge_en = edge_en[keep]
+
     return PerceptionResult(
         has_edge=True,
-        water_fraction=fraction,
+        water_fraction=float(water_fraction),
         only_land=False,
         only_water=False,
         footprint_side_m=footprint_m,
@@ -214,7 +210,26 @@ def _perceive(
         edge_normal_en=normal,
         edge_tangent_en=tangent,
         edge_points_en_m=edge_en,
-        water_centroid_px=(float(water_px[0]), float(water_px[1])),
-        land_centroid_px=(float(land_px[0]), float(land_px[1])),
+        water_centroid_px=water_px,
+        land_centroid_px=land_px,
         ground_sample_m=gsd,
     )
+
+
+def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshold: float) -> NDArray[np.float64]:
+    """Sub-pixel points where the water mask changes between 4-neighbours, (K, 2) image (x, y) [px].
+
+    Each point lies on the segment between the two pixel centres, where the chroma crosses the threshold
+    (linear interpolation, clamped to the segment's middle half so a noisy pixel cannot throw it far).
+    """
+    c = chroma.astype(np.float32)
+    t = np.float32(threshold)
+    rows, cols = np.nonzero(mask[:, :-1] != mask[:, 1:])
+    a, b = c[rows, cols], c[rows, cols + 1]
+    frac = np.clip(np.divide(t - a, b - a, out=np.full_like(a, 0.5), where=b != a), 0.25, 0.75)
+    horizontal = np.stack([cols + 0.5 + frac, rows + 0.5], axis=-1)
+    rows, cols = np.nonzero(mask[:-1, :] != mask[1:, :])
+    a, b = c[rows, cols], c[rows + 1, cols]
+    frac = np.clip(np.divide(t - a, b - a, out=np.full_like(a, 0.5), where=b != a), 0.25, 0.75)
+    vertical = np.stack([cols + 0.5, rows + 0.5 + frac], axis=-1)
+    return np.concatenate([horizontal, vertical]).astype(np.float64)
