@@ -46,7 +46,12 @@ def spill_levels(heights_m: NDArray[np.floating], source_rc: tuple[int, int], ma
                 if candidate < spill[n] and candidate < max_level_m:
                     spill[n] = candidate
                     heapq.heappush(queue, (candidate, n))
-    return np.asarray(spill, dtype=np.float32).reshape(rows, cols)
+    levels = np.asarray(spill, dtype=np.float64).reshape(rows, cols)
+    # Cells never reached keep their own height (at least max_level_m) rather than NEVER_M: interpolating between a
+    # flooded cell and a dry neighbour then puts the shore where the ground meets the water, not a cell inland.
+    unreached = levels >= NEVER_M
+    levels[unreached] = np.maximum(np.asarray(heights_m, dtype=np.float64)[unreached], max_level_m)
+    return levels.astype(np.float32)
 
 
 @dataclass(frozen=True, eq=False)

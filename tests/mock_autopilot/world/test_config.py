@@ -1,0 +1,109 @@
+"""``flood_model_from_config``: every scenario's [flood] table builds, and bad tables give one error naming the field."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from gcs.scenario import load_scenario
+from mock_autopilot.world.config import FloodConfigError, flood_model_from_config
+from mock_autopilot.world.drift import DriftingFlood
+from mock_autopilot.world.ellipse import GrowingEllipse
+from mock_autopilot.world.flood_model import ExpandingCircle
+from mock_autopilot.world.nonconvex import NonConvexFlood
+from mock_autopilot.world.terrain import TerrainFlood
+
+SCENARIOS = Path(__file__).resolve().parents[3] / "gcs" / "scenarios"
+
+
+@pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.toml")), ids=lambda p: p.stem)
+def test_every_shipped_scenario_flood_table_builds(path: Path) -> None:
+    scenario = load_scenario(str(path))
+    flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+    assert flood.area_m2(0.0) > 0.0
+    assert flood.is_water(flood.centroid_en_m(0.0)[None, :], 0.0).tolist() == [True]
+
+
+def test_models_by_name() -> None:
+    assert isinstance(flood_model_from_config({"model": "circle"}), ExpandingCircle)
+    assert isinstance(flood_model_from_config({"model": "ellipse"}), GrowingEllipse)
+    assert isinstance(flood_model_from_config({"model": "nonconvex"}), NonConvexFlood)
+    assert isinstance(flood_model_from_config({"model": "drift", "shape": "ellipse"}), DriftingFlood)
+    assert isinstance(flood_model_from_config({"model": "terrain"}), TerrainFlood)
+
+
+def test_nonconvex_phase_is_drawn_from_the_seed_unless_given() -> None:
+    a = flood_model_from_config({"model": "nonconvex"}, seed=1)
+    b = flood_model_from_config({"model": "nonconvex"}, seed=2)
+    c = flood_model_from_config({"model": "nonconvex"}, seed=1)
+    assert isinstance(a, NonConvexFlood) and isinstance(b, NonConvexFlood) and isinstance(c, NonConvexFlood)
+    assert a.phase_rad == c.phase_rad != b.phase_rad
+    d = flood_model_from_config({"model": "nonconvex", "phase_rad": 0.7}, seed=1)
+    assert isinstance(d, NonConvexFlood) and d.phase_rad == 0.7
+
+
+def test_the_values_of_the_table_are_used() -> None:
+    flood = flood_model_from_config({"model": "circle", "center_en_m": [3, 4], "radius_start_m": 5, "radius_end_m": 7,
+                                     "growth_duration_s": 10})
+    assert isinstance(flood, ExpandingCircle)
+    assert flood.radius_m(5.0) == pytest.approx(6.0)
+    np.testing.assert_allclose(flood.centroid_en_m(0.0), [3.0, 4.0])
+
+
+@pytest.mark.parametrize(
+    ("table", "field"),
+    [
+        ({"model": "hexagon"}, "flood.model"),
+        ({"model": 3}, "flood.model"),
+        ({"model": "circle", "radius_start_m": -1.0}, "flood.radius_start_m"),
+        ({"model": "circle", "radius_end_m": 0}, "flood.radius_end_m"),
+        ({"model": "circle", "radius_start_m": 16.0, "radius_end_m": 12.0}, "flood.radius_end_m"),
+        ({"model": "circle", "radius_start_m": "big"}, "flood.radius_start_m"),
+        ({"model": "circle", "radius_start_m": float("nan")}, "flood.radius_start_m"),
+        ({"model": "circle", "growth_duration_s": -5}, "flood.growth_duration_s"),
+        ({"model": "circle", "center_en_m": [1.0]}, "flood.center_en_m"),
+        ({"model": "circle", "radius": 12}, "flood.radius"),
+        ({"model": "ellipse", "semi_axes_start_m": [14, -9]}, "flood.semi_axes_start_m"),
+        ({"model": "ellipse", "semi_axes_start_m": [14, 9], "semi_axes_end_m": [19, 8]}, "flood.semi_axes_end_m"),
+        ({"model": "nonconvex", "amplitude_3": 0.6, "amplitude_5": 0.5}, "flood.amplitude_5"),
+        ({"model": "drift", "shape": "terrain"}, "flood.shape"),
+        ({"model": "drift", "velocity_en_mps": [1, "x"]}, "flood.velocity_en_mps"),
+        ({"model": "terrain", "level_start_m": 2.0, "level_end_m": 1.0}, "flood.level_end_m"),
+        ({"model": "terrain", "level_start_m": -1.0}, "flood.level_start_m"),
+        ({"model": "terrain", "level_end_m": 40.0}, "flood.level_end_m"),
+        ({"model": "terrain", "roughness": 2.0}, "flood.roughness"),
+        ({"model": "terrain", "cell_m": 0.001}, "flood.cell_m"),
+        ({"model": "terrain", "dem_path": "no/such/dem.png"}, "flood.dem_path"),
+    ],
+)
+def test_bad_tables_name_the_field(table: dict, field: str) -> None:
+    with pytest.raises(FloodConfigError) as info:
+        flood_model_from_config(table)
+    message = str(info.value)
+    assert message.startswith(f"{field}:"), message
+    assert "\n" not in message
+    assert isinstance(info.value, ValueError)
+
+
+def test_not_a_table() -> None:
+    with pytest.raises(FloodConfigError, match=r"^flood: must be a table"):
+        flood_model_from_config(["circle"])  # type: ignore[arg-type]
+
+
+def test_source_outside_the_dem(tmp_path: Path) -> None:
+    assert cv2.imwrite(str(tmp_path / "dem.png"), np.full((32, 32), 1000, np.uint16))
+    table = {"model": "terrain", "dem_path": str(tmp_path / "dem.png"), "dem_center_en_m": [0.0, 0.0],
+             "source_en_m": [500.0, 0.0]}
+    with pytest.raises(FloodConfigError, match=r"^flood\.source_en_m: .*outside the terrain"):
+        flood_model_from_config(table)
+
+
+def test_dem_that_is_not_a_grey_image(tmp_path: Path) -> None:
+    assert cv2.imwrite(str(tmp_path / "colour.png"), np.zeros((32, 32, 3), np.uint8))
+    (tmp_path / "text.png").write_text("not an image")
+    for name in ("colour.png", "text.png"):
+        with pytest.raises(FloodConfigError, match=r"^flood\.dem_path: "):
+            flood_model_from_config({"model": "terrain", "dem_path": name}, base_dir=tmp_path)
