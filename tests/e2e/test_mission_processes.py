@@ -6,6 +6,7 @@ checks that no process outlives the run.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import os
 import re
@@ -167,7 +168,6 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     result: dict[str, int] = {}
     runner = threading.Thread(target=lambda: result.setdefault("code", _run(station)))
     runner.start()
-    killed_at_utc = None
     try:
         deadline = time.monotonic() + 120.0
         while time.monotonic() < deadline and not (station.phase == "mission" and station.flood_time_s() > 8.0):
@@ -176,7 +176,6 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
         victim = pids_of_run(out)["agent_3"]
         os.kill(victim, signal.SIGKILL)
         killed_wall = time.monotonic()
-        killed_at_utc = time.time()
         while time.monotonic() - killed_wall < 2.0 and 3 not in station.lost:
             time.sleep(0.02)
         reported_after_s = time.monotonic() - killed_wall
@@ -197,7 +196,6 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     losses = [loss for loss in metrics["losses"] if loss["vehicle_id"] == 3]
     assert losses, metrics["losses"]
     assert metrics["summary"]["min_pairwise_distance_m"] >= 1.0
-    assert killed_at_utc is not None
 
 
 def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(tmp_path: Path) -> None:
@@ -293,8 +291,6 @@ def _mkdir(path: Path) -> Path:
 
 
 def _run(station: GroundStation) -> int:
-    import asyncio
-
     return asyncio.run(station.run())
 
 
