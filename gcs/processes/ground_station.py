@@ -397,11 +397,11 @@ class GroundStation:
                 self.polygon_area_m2 = feature.properties.area_m2
             except ValueError:
                 pass
-        if len(self.recorder):
-            rec_pos = np.array(self.recorder._pos[-1])  # newest row
-            sides = np.array(self.recorder._foot[-1])
+        latest = self.recorder.latest()
+        if latest is not None:
+            positions, sides = latest
             water = np.asarray(self.flood.is_water(self._grid.centres_en_m(), flood_t_s), dtype=bool)
-            self.coverage = footprint_coverage(self._grid, water, rec_pos[:, :2], sides).coverage
+            self.coverage = footprint_coverage(self._grid, water, positions[:, :2], sides).coverage
 
     # ------------------------------------------------------------------ view and outputs
     def _snapshot(self, watcher: MavlinkWatcher, now_wall_s: float) -> MissionSnapshot:

@@ -50,6 +50,10 @@ class MissionRecorder:
         self._foot.append(np.asarray(footprint_side_m, dtype=float).copy())
         self._alive.append(np.asarray(alive, dtype=bool).copy())
 
+    def latest(self) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+        """The newest row's positions (N, 3) and footprint sides (N,), or None before the first row."""
+        return (self._pos[-1], self._foot[-1]) if self._t else None
+
     def record(self) -> MissionRecord:
         n = len(self.vehicle_ids)
         return MissionRecord(
