@@ -34,7 +34,7 @@ from rich.live import Live
 from comms.keys import MissionKeys
 from comms.messages import FLAG_SEES_EDGE, GroundTruth, MissionCommand, NeighbourState, decode, encode, flood_polygon_from_enu
 from comms.swarm_link import SwarmLink
-from comms.zenoh_session import ZenohConfig, ZenohSession
+from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage
 from gcs.metrics.polygon_quality import polygon_iou
 from gcs.mission_record import PolygonSample
@@ -159,8 +159,6 @@ class GroundStation:
         self._interrupted = True
 
     def _open_hub(self) -> ZenohSession:
-        from comms.zenoh_session import ZenohOpenError
-
         try:
             return ZenohSession(ZenohConfig.hub(self.options.zenoh_endpoint))
         except ZenohOpenError as exc:
