@@ -27,8 +27,10 @@ NEVER_M = 1.0e6
 
 
 def spill_levels(heights_m: NDArray[np.floating], source_rc: tuple[int, int], max_level_m: float) -> NDArray[np.float32]:
-    """For each cell, the lowest water level at which it joins the source's component (``NEVER_M`` if that is
-    at least ``max_level_m``: such cells are not expanded, which bounds the work to the region that ever floods)."""
+    """For each cell, the lowest water level at which it joins the source's component.
+
+    Cells that would join only at ``max_level_m`` or above are not expanded (which bounds the work to the region
+    that ever floods); they get ``max(height, max_level_m)``, never below any level the flood reaches."""
     rows, cols = heights_m.shape
     flat = np.asarray(heights_m, dtype=np.float64).ravel().tolist()
     spill = [NEVER_M] * (rows * cols)
