@@ -1,0 +1,164 @@
+"""Perception against the renderer's truth over many random poses and every flood model (issue 3's targets:
+water IoU >= 0.97 and midpoint error <= 0.3 m at 10 m on the default camera).
+
+Measured when written (seed 11, 200 frames per model, 10 m, 128x128, 60°): pooled water IoU 0.9988-0.9997 and per-frame
+5th percentile >= 0.995; midpoint error max <= 0.04 m; centroid error max <= 0.1 m; median edge-point distance to
+the true shore 0.013 m (gsd 0.09 m). The asserted bounds below are the issue's targets, or a few times the measured
+figures where the issue states none. docs/PERCEPTION.md has the table (``bench/camera_perception.py --accuracy``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.camera.render import RenderedFrame, ground_points_en_m, render_frame
+from mock_autopilot.world.config import flood_model_from_config
+from mock_autopilot.world.flood_model import FloodModel
+from vehicle_agents.perception.result import PerceptionResult
+from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
+
+TABLES = {
+    "circle": {"model": "circle"},
+    "ellipse": {"model": "ellipse", "orientation_deg": 20.0},
+    "nonconvex": {"model": "nonconvex", "phase_rad": 0.7},
+    "drift": {"model": "drift", "shape": "circle", "velocity_en_mps": [0.12, 0.09]},
+    "terrain": {"model": "terrain", "level_start_m": 1.0, "level_end_m": 2.0, "terrain_size_m": 120.0, "cell_m": 0.5,
+                "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
+}
+FRAMES_PER_MODEL = 200
+
+
+def truth_offsets_en_m(camera: CameraModel, position: tuple[float, float, float], yaw: float) -> np.ndarray:
+    points = ground_points_en_m(camera, position, yaw)
+    return points - np.asarray(position[:2])
+
+
+def predicted_mask(frame: RenderedFrame, result: PerceptionResult) -> np.ndarray:
+    mask, _, _ = segment_water(frame.image_bgr)
+    return mask if mask is not None else np.full(frame.water_mask.shape, bool(result.only_water))
+
+
+def random_poses(flood: FloodModel, rng: np.random.Generator, n: int, altitude_m: float):
+    """Poses within 6 m of a random point of the true edge, at a random time and yaw (some see one class only)."""
+    for _ in range(n):
+        t_s = float(rng.uniform(0.0, 60.0))
+        ring = flood.boundary_en_m(t_s)
+        edge = ring[rng.integers(len(ring))]
+        position = (float(edge[0] + rng.uniform(-6, 6)), float(edge[1] + rng.uniform(-6, 6)), altitude_m)
+        yield t_s, position, float(rng.uniform(-math.pi, math.pi))
+
+
+def evaluate(flood: FloodModel, camera: CameraModel, altitude_m: float, n: int, seed: int) -> dict[str, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    inter = union = 0
+    ious, midpoint_err, centroid_err, edge_err, normal_dot, tangent_water_left = [], [], [], [], [], []
+    wrong_class = 0
+    for t_s, position, yaw in random_poses(flood, rng, n, altitude_m):
+        frame = render_frame(flood, t_s, position, yaw, camera, seed)
+        result = perceive(frame.image_bgr, altitude_m, camera.fov_deg, yaw)
+        truth = frame.water_mask
+        mask = predicted_mask(frame, result)
+        i, u = int((mask & truth).sum()), int((mask | truth).sum())
+        inter, union = inter + i, union + u
+        fraction = truth.mean()
+        both = MIN_CLASS_FRACTION * 2 <= fraction <= 1 - MIN_CLASS_FRACTION * 2
+        if both:
+            ious.append(i / u)
+        if both != result.has_edge and (MIN_CLASS_FRACTION / 2 < fraction < 1 - MIN_CLASS_FRACTION / 2):
+            continue  # within a factor two of the class threshold either answer is fine
+        if not both:
+            wrong_class += int(result.has_edge or result.only_water != (fraction > 0.5))
+            continue
+        if not result.has_edge:
+            wrong_class += 1
+            continue
+        offsets = truth_offsets_en_m(camera, position, yaw)
+        water_c, land_c = offsets[truth].mean(axis=0), offsets[~truth].mean(axis=0)
+        midpoint_err.append(float(np.linalg.norm(result.midpoint_offset_en_m - 0.5 * (water_c + land_c))))
+        centroid_err.append(max(float(np.linalg.norm(result.water_centroid_en_m - water_c)),
+                                float(np.linalg.norm(result.land_centroid_en_m - land_c))))
+        # True shore: midpoints between 4-neighbour pixel centres of different class.
+        h_pairs = truth[:, :-1] != truth[:, 1:]
+        v_pairs = truth[:-1, :] != truth[1:, :]
+        shore = np.concatenate([0.5 * (offsets[:, :-1][h_pairs] + offsets[:, 1:][h_pairs]),
+                                0.5 * (offsets[:-1, :][v_pairs] + offsets[1:, :][v_pairs])])
+        points = result.edge_points_en_m
+        assert points.ndim == 2 and points.shape[1] == 2 and len(points) > 0
+        d = np.sqrt(((points[:, None, :] - shore[None, :, :]) ** 2).sum(axis=-1)).min(axis=1)
+        edge_err.append(float(np.median(d)))
+        normal_dot.append(float(result.edge_normal_en @ (land_c - water_c) / np.linalg.norm(land_c - water_c)))
+        left = np.array([-result.edge_tangent_en[1], result.edge_tangent_en[0]])
+        tangent_water_left.append(float(left @ -result.edge_normal_en))
+    return {
+        "pooled_iou": np.array(inter / union),
+        "ious": np.array(ious),
+        "midpoint": np.array(midpoint_err),
+        "centroid": np.array(centroid_err),
+        "edge": np.array(edge_err),
+        "normal_dot": np.array(normal_dot),
+        "tangent_left": np.array(tangent_water_left),
+        "wrong_class": np.array(wrong_class),
+    }
+
+
+@pytest.mark.parametrize("model", sorted(TABLES))
+def test_accuracy_at_10_m_on_the_default_camera(model: str) -> None:
+    flood = flood_model_from_config(TABLES[model], seed=3)
+    stats = evaluate(flood, CameraModel(), 10.0, FRAMES_PER_MODEL, seed=11)
+    assert len(stats["midpoint"]) >= FRAMES_PER_MODEL // 2, "most poses must see the edge"
+    assert float(stats["pooled_iou"]) >= 0.97
+    assert np.percentile(stats["ious"], 5) >= 0.97
+    assert stats["midpoint"].max() <= 0.3
+    assert stats["centroid"].max() <= 0.3
+    assert np.median(stats["edge"]) <= 0.05 and stats["edge"].max() <= 0.2
+    # The normal is the shore's principal direction, so in a curved bay it may lean away from the line joining the
+    # two centroids; it always points to the land side, and usually along that line.
+    assert stats["normal_dot"].min() > 0.0 and np.median(stats["normal_dot"]) > 0.95
+    np.testing.assert_allclose(stats["tangent_left"], 1.0, atol=1e-9)
+    assert int(stats["wrong_class"]) == 0, "Algorithm 1's only-land / only-water flags agree with the truth"
+
+
+@pytest.mark.parametrize(("altitude_m", "camera"), [(5.0, CameraModel()), (25.0, CameraModel()),
+                                                    (10.0, CameraModel(160, 120, 70.0))])
+def test_accuracy_at_other_heights_and_a_4_3_camera(altitude_m: float, camera: CameraModel) -> None:
+    flood = flood_model_from_config(TABLES["nonconvex"], seed=3)
+    stats = evaluate(flood, camera, altitude_m, 80, seed=12)
+    assert float(stats["pooled_iou"]) >= 0.97
+    gsd = camera.ground_sample_m(altitude_m)
+    assert stats["midpoint"].max() <= max(0.3, 3 * gsd)
+    assert int(stats["wrong_class"]) == 0
+
+
+def test_offsets_are_world_east_north_at_any_yaw() -> None:
+    """The footprint turns with the drone, so each yaw sees a slightly different patch; each measurement must match
+    that patch's truth in east/north, and the shore's normal is the same physical direction."""
+    flood = flood_model_from_config(TABLES["circle"])
+    camera = CameraModel()
+    normals = []
+    for yaw_deg in (0.0, 37.0, 90.0, 200.0, -120.0):
+        yaw = math.radians(yaw_deg)
+        frame = render_frame(flood, 0.0, (11.0, 2.0, 10.0), yaw, camera, seed=2)
+        result = perceive(frame.image_bgr, 10.0, 60.0, yaw)
+        offsets = truth_offsets_en_m(camera, (11.0, 2.0, 10.0), yaw)
+        truth = frame.water_mask
+        midpoint = 0.5 * (offsets[truth].mean(axis=0) + offsets[~truth].mean(axis=0))
+        np.testing.assert_allclose(result.midpoint_offset_en_m, midpoint, atol=0.05)
+        normals.append(result.edge_normal_en)
+    # The drone is just inside the east shore at bearing ~10°, so the normal (water -> land) points that way.
+    expected = np.array([11.0, 2.0]) / np.hypot(11.0, 2.0)
+    for normal in normals:
+        assert float(normal @ expected) > 0.99
+
+
+def test_algorithm_1_flags_only_land_and_only_water() -> None:
+    flood = flood_model_from_config(TABLES["circle"])
+    over_land = perceive(render_frame(flood, 0.0, (30.0, 0.0, 10.0), 0.0, CameraModel(), 1).image_bgr, 10.0, 60.0)
+    over_water = perceive(render_frame(flood, 0.0, (0.0, 0.0, 10.0), 0.0, CameraModel(), 1).image_bgr, 10.0, 60.0)
+    assert over_land.only_land and not over_land.only_water and not over_land.has_edge
+    assert over_land.water_fraction == 0.0 and over_land.midpoint_offset_en_m is None
+    assert over_water.only_water and not over_water.only_land and not over_water.has_edge
+    assert over_water.water_fraction == 1.0
