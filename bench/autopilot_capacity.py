@@ -3,7 +3,7 @@
 Method: start a Fleet of N GPS vehicles (speed 1) whose links send to UDP sink sockets (bound, never read:
 the kernel drops what overflows, so the sink costs no CPU); arm them and take them off to 5 m with MAVLink
 commands (``--idle`` leaves them on the ground); after a 2 s warm-up, measure over ``--seconds``:
-* telemetry datagrams actually sent per vehicle per second vs what the profile asks for (a vehicle without an
+* telemetry messages actually sent per vehicle per second vs what the profile asks for (a vehicle without an
   offboard setpoint sends every stream of the profile except POSITION_TARGET_LOCAL_NED);
 * CPU of the whole process (``time.process_time``; the measuring thread sleeps) per wall second, and per vehicle;
 * fleet ticks that overran their 10 ms period.
@@ -67,7 +67,7 @@ def measure(n: int, profile: str, seconds: float, base_port: int, flying: bool) 
             time.sleep(2.0)
 
             def sent() -> int:
-                return sum(link.sent_datagrams for links in fleet.links for link in links.values())
+                return sum(link.sent_messages for links in fleet.links for link in links.values())
 
             s0, c0, w0, t0, o0 = sent(), time.process_time(), time.monotonic(), fleet.ticks, fleet.tick_overruns
             time.sleep(seconds)

@@ -220,6 +220,8 @@ class Fleet:
         return on_message
 
     def _dispatch(self, i: int, outgoing: list[Outgoing]) -> None:
+        if not outgoing:
+            return
         links = self.links[i]
         for item in outgoing:
             if item.link is None:
@@ -227,6 +229,8 @@ class Fleet:
                     link.send(item.message)
             else:
                 links[item.link].send(item.message)
+        for link in links.values():
+            link.flush()
 
     async def _run_ticks(self) -> None:
         assert self._stop is not None
