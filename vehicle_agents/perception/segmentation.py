@@ -48,6 +48,8 @@ MAX_EDGE_POINTS = 64
 """At most this many edge points are returned (evenly taken along the edge)."""
 
 _OPEN_KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
+_CHROMA_ROW = np.array([[0.5, 0.0, -0.5, 128.0]], np.float32)
+"""``cv2.transform`` row giving ``B/2 − R/2 + 128`` from a BGR pixel in one pass."""
 
 
 def perceive(
@@ -77,25 +79,22 @@ def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | Non
     near neutral, else neutral. A one-class frame returns None as mask and the neutral chroma as threshold, for
     deciding which class it is.
     """
-    blue, _, red = cv2.split(image_bgr)
-    chroma = cv2.addWeighted(blue, 0.5, red, -0.5, 128.0)
+    chroma = cv2.transform(image_bgr, _CHROMA_ROW)
     otsu, _ = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
     threshold = float(otsu) if abs(float(otsu) - NEUTRAL_CHROMA) <= MAX_THRESHOLD_SHIFT else NEUTRAL_CHROMA
     _, binary = cv2.threshold(chroma, threshold, 1, cv2.THRESH_BINARY)
-    high = binary.view(bool)
-    n_high = int(np.count_nonzero(high))
-    n = high.size
+    n_high = cv2.countNonZero(binary)
+    n = binary.size
     if n_high == 0 or n_high == n:
         return None, chroma, NEUTRAL_CHROMA
-    total = float(chroma.sum(dtype=np.float64))
-    sum_high = float(chroma[high].sum(dtype=np.float64))
-    mean_high = sum_high / n_high
-    mean_low = (total - sum_high) / (n - n_high)
+    mean_all = cv2.mean(chroma)[0]
+    mean_high = cv2.mean(chroma, mask=binary)[0]
+    mean_low = (mean_all * n - mean_high * n_high) / (n - n_high)
     if mean_high - mean_low < MIN_CHROMA_SEPARATION:
         return None, chroma, NEUTRAL_CHROMA
     binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, _OPEN_KERNEL)
     binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, _OPEN_KERNEL)
-    return binary.astype(bool), chroma, float(threshold)
+    return binary.view(bool), chroma, float(threshold)
 
 
 def _usable_image(image: Any) -> NDArray[np.uint8] | None:
@@ -113,8 +112,8 @@ def _unusable_exposure(image: NDArray[np.uint8]) -> bool:
     mean, std = cv2.meanStdDev(grey)
     if float(mean[0, 0]) < DARK_MEAN_DN or float(std[0, 0]) < FLAT_STD_DN:
         return True
-    saturated = np.count_nonzero(cv2.inRange(image, (255, 255, 255), (255, 255, 255)))
-    return saturated >= SATURATED_FRACTION * grey.size
+    _, saturated = cv2.threshold(grey, 253, 1, cv2.THRESH_BINARY)  # grey 254-255: every channel at or near 255
+    return cv2.countNonZero(saturated) >= SATURATED_FRACTION * grey.size
 
 
 def _perceive(
@@ -164,39 +163,33 @@ def _perceive(
     land_px = (all_sum - water_px * n_water) / (n - n_water)
 
     heading = yaw_ned_to_enu_rad(yaw_ned_rad)
-    fwd = np.array([math.cos(heading), math.sin(heading)])
-    right = np.array([fwd[1], -fwd[0]])
+    fwd_e, fwd_n = math.cos(heading), math.sin(heading)
+    # Image (x right, y down) offsets from the centre [px] @ this = ground offsets [m; east, north].
+    to_en = np.array([[fwd_n, -fwd_e], [-fwd_e, -fwd_n]]) * gsd
     centre = np.array([w / 2.0, h / 2.0])
-
-    def to_en(xy_px: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Image points (x right, y down) [px] -> ground offsets from the drone [m; east, north]."""
-        d = (np.asarray(xy_px, dtype=float) - centre) * gsd
-        return d[..., 0:1] * right - d[..., 1:2] * fwd
-
-    water_en = to_en(water_px)
-    land_en = to_en(land_px)
-    edge_px = _edge_points_px(mask, chroma, threshold)
-    edge_en = to_en(edge_px) if edge_px.shape[0] else np.zeros((0, 2))
+    water_en = (water_px - centre) @ to_en
+    land_en = (land_px - centre) @ to_en
+    edge_en = (_edge_points_px(mask, chroma, threshold) - centre) @ to_en
 
     normal = land_en - water_en
     if edge_en.shape[0] >= 2:
-        centred = edge_en - edge_en.mean(axis=0)
-        _, vecs = np.linalg.eigh(centred.T @ centred)
-        tangent_axis = vecs[:, 1]
-        pca_normal = np.array([-tangent_axis[1], tangent_axis[0]])
+        # Principal axis of the edge points (closed form for 2x2) is the tangent; the normal is across it.
+        d = edge_en - edge_en.mean(axis=0)
+        sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
+        axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+        pca_normal = np.array([-math.sin(axis), math.cos(axis)])
         normal = pca_normal if float(pca_normal @ normal) >= 0.0 else -pca_normal
-    length = float(np.hypot(normal[0], normal[1]))
+    length = math.hypot(float(normal[0]), float(normal[1]))
     if length <= 0.0 or not math.isfinite(length):
         return PerceptionResult.no_measurement(footprint_m)
     normal = normal / length
     tangent = np.array([-normal[1], normal[0]])
 
     if edge_en.shape[0] > 0:
-        order = np.argsort(edge_en @ tangent, kind="stable")
-        edge_en = edge_en[order]
-        if edge_en.shape[0] > max_edge_points > 0:
-            keep = np.linspace(0, edge_en.shape[0] - 1, max_edge_points).round().astype(int)
-            edge_en = edge_en[keep]
+        edge_en = edge_en[np.argsort(edge_en @ tangent, kind="stable")]
+        k = edge_en.shape[0]
+        if k > max_edge_points > 1:
+            edge_en = edge_en[np.arange(max_edge_points) * (k - 1) // (max_edge_points - 1)]
 
     return PerceptionResult(
         has_edge=True,
@@ -222,14 +215,19 @@ def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshol
     Each point lies on the segment between the two pixel centres, where the chroma crosses the threshold
     (linear interpolation, clamped to the segment's middle half so a noisy pixel cannot throw it far).
     """
-    c = chroma.astype(np.float32)
-    t = np.float32(threshold)
-    rows, cols = np.nonzero(mask[:, :-1] != mask[:, 1:])
-    a, b = c[rows, cols], c[rows, cols + 1]
-    frac = np.clip(np.divide(t - a, b - a, out=np.full_like(a, 0.5), where=b != a), 0.25, 0.75)
-    horizontal = np.stack([cols + 0.5 + frac, rows + 0.5], axis=-1)
-    rows, cols = np.nonzero(mask[:-1, :] != mask[1:, :])
-    a, b = c[rows, cols], c[rows + 1, cols]
-    frac = np.clip(np.divide(t - a, b - a, out=np.full_like(a, 0.5), where=b != a), 0.25, 0.75)
-    vertical = np.stack([cols + 0.5, rows + 0.5 + frac], axis=-1)
-    return np.concatenate([horizontal, vertical]).astype(np.float64)
+    m8 = mask.view(np.uint8)
+    parts = []
+    for dx, dy, changes in ((1, 0, cv2.bitwise_xor(m8[:, :-1], m8[:, 1:])),
+                            (0, 1, cv2.bitwise_xor(m8[:-1, :], m8[1:, :]))):
+        found = cv2.findNonZero(changes)
+        if found is None:
+            continue
+        xy = found.reshape(-1, 2)
+        a = chroma[xy[:, 1], xy[:, 0]].astype(np.float32)
+        b = chroma[xy[:, 1] + dy, xy[:, 0] + dx].astype(np.float32)
+        frac = np.clip(np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a), 0.25, 0.75)
+        point = xy + 0.5
+        point[:, 0] += dx * frac
+        point[:, 1] += dy * frac
+        parts.append(point)
+    return np.concatenate(parts) if parts else np.zeros((0, 2))

@@ -1,0 +1,179 @@
+"""Benchmark: camera render + onboard perception per frame (p50/p99), per flood model and image size, and the
+accuracy of perception against the renderer's truth (the figures quoted in docs/PERCEPTION.md).
+
+    .venv/bin/python -m bench.camera_perception [--frames 2000] [--sizes 128x128,160x120] [--accuracy 300]
+
+Timing: each call is timed alone with ``time.perf_counter`` (wall clock, so a loaded machine shows in p99); poses
+are random points within 6 m of the flood's true edge at a random time and yaw, as the boundary drones see it.
+Cold costs are reported separately: building the flood model (the terrain's spill levels) and the first frame of
+a new seed (texture tiles).
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import math
+import os
+import platform
+import subprocess
+import time
+from typing import Any
+
+import numpy as np
+
+from mock_autopilot.camera.appearance import ground_textures
+from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.camera.render import ground_points_en_m, render_frame
+from mock_autopilot.world.config import flood_model_from_config
+from mock_autopilot.world.flood_model import FloodModel
+from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
+
+TABLES: dict[str, dict[str, Any]] = {
+    "circle": {"model": "circle"},
+    "ellipse": {"model": "ellipse", "orientation_deg": 20.0},
+    "nonconvex": {"model": "nonconvex", "phase_rad": 0.7},
+    "drift": {"model": "drift", "shape": "circle", "velocity_en_mps": [0.12, 0.09]},
+    "terrain": {"model": "terrain", "level_start_m": 1.0, "level_end_m": 2.0, "terrain_size_m": 120.0, "cell_m": 0.5,
+                "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
+}
+
+
+def poses(flood: FloodModel, n: int, altitude_m: float, seed: int) -> list[tuple[float, tuple[float, float, float], float]]:
+    """(t, position, yaw) within 6 m of a random point of the true edge."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        t_s = float(rng.uniform(0.0, 60.0))
+        ring = flood.boundary_en_m(t_s)
+        edge = ring[rng.integers(len(ring))]
+        out.append((t_s, (float(edge[0] + rng.uniform(-6, 6)), float(edge[1] + rng.uniform(-6, 6)), altitude_m),
+                    float(rng.uniform(-math.pi, math.pi))))
+    return out
+
+
+def percentiles_ms(samples_s: list[float]) -> dict[str, float]:
+    a = np.asarray(samples_s) * 1e3
+    return {"p50": round(float(np.percentile(a, 50)), 3), "p99": round(float(np.percentile(a, 99)), 3),
+            "mean": round(float(a.mean()), 3)}
+
+
+def time_model(name: str, camera: CameraModel, frames: int) -> dict[str, Any]:
+    t0 = time.perf_counter()
+    flood = flood_model_from_config(TABLES[name], seed=1)
+    build_s = time.perf_counter() - t0
+    plan = poses(flood, frames, 10.0, seed=5)
+    render_frame(flood, plan[0][0], plan[0][1], plan[0][2], camera, 1)  # warm caches (textures, noise bank)
+    render_s, perceive_s, both_s = [], [], []
+    gc.collect()
+    for t_s, position, yaw in plan:
+        a = time.perf_counter()
+        frame = render_frame(flood, t_s, position, yaw, camera, 1)
+        b = time.perf_counter()
+        perceive(frame.image_bgr, position[2], camera.fov_deg, yaw)
+        c = time.perf_counter()
+        render_s.append(b - a)
+        perceive_s.append(c - b)
+        both_s.append(c - a)
+    return {"model": name, "size": f"{camera.width_px}x{camera.height_px}", "build_ms": round(build_s * 1e3, 1),
+            "render": percentiles_ms(render_s), "perceive": percentiles_ms(perceive_s),
+            "render+perceive": percentiles_ms(both_s)}
+
+
+def accuracy(name: str, frames: int, camera: CameraModel, altitude_m: float = 10.0) -> dict[str, Any]:
+    """Pooled water IoU, per-frame IoU p5, midpoint / centroid error, edge-point error, flag agreement."""
+    flood = flood_model_from_config(TABLES[name], seed=3)
+    inter = union = 0
+    ious, mid, cen, edge = [], [], [], []
+    flag_errors = 0
+    for t_s, position, yaw in poses(flood, frames, altitude_m, seed=11):
+        frame = render_frame(flood, t_s, position, yaw, camera, 3)
+        result = perceive(frame.image_bgr, altitude_m, camera.fov_deg, yaw)
+        truth = frame.water_mask
+        mask, _, _ = segment_water(frame.image_bgr)
+        mask = mask if mask is not None else np.full(truth.shape, bool(result.only_water))
+        inter += int((mask & truth).sum())
+        union += int((mask | truth).sum())
+        fraction = float(truth.mean())
+        both = 2 * MIN_CLASS_FRACTION <= fraction <= 1 - 2 * MIN_CLASS_FRACTION
+        near_threshold = MIN_CLASS_FRACTION / 2 < min(fraction, 1 - fraction) < 2 * MIN_CLASS_FRACTION
+        if near_threshold:
+            continue
+        if both != result.has_edge or (not both and result.only_water != (fraction > 0.5)):
+            flag_errors += 1
+            continue
+        if not both:
+            continue
+        ious.append(float((mask & truth).sum() / (mask | truth).sum()))
+        offsets = ground_points_en_m(camera, position, yaw) - np.asarray(position[:2])
+        water_c, land_c = offsets[truth].mean(axis=0), offsets[~truth].mean(axis=0)
+        mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - 0.5 * (water_c + land_c))))
+        cen.append(max(float(np.linalg.norm(result.water_centroid_en_m - water_c)),
+                       float(np.linalg.norm(result.land_centroid_en_m - land_c))))
+        h_pairs = truth[:, :-1] != truth[:, 1:]
+        v_pairs = truth[:-1, :] != truth[1:, :]
+        shore = np.concatenate([0.5 * (offsets[:, :-1][h_pairs] + offsets[:, 1:][h_pairs]),
+                                0.5 * (offsets[:-1, :][v_pairs] + offsets[1:, :][v_pairs])])
+        d = np.sqrt(((result.edge_points_en_m[:, None, :] - shore[None]) ** 2).sum(-1)).min(axis=1)
+        edge.append(float(np.median(d)))
+    return {
+        "model": name, "size": f"{camera.width_px}x{camera.height_px}", "altitude_m": altitude_m,
+        "frames": frames, "frames_with_edge": len(mid),
+        "pooled_iou": round(inter / union, 4), "iou_p5": round(float(np.percentile(ious, 5)), 4),
+        "midpoint_err_m_p95": round(float(np.percentile(mid, 95)), 3), "midpoint_err_m_max": round(max(mid), 3),
+        "centroid_err_m_max": round(max(cen), 3), "edge_err_m_median": round(float(np.median(edge)), 3),
+        "flag_errors": flag_errors,
+    }
+
+
+def machine() -> str:
+    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")), "?")
+    load = os.getloadavg()[0]
+    return f"{os.cpu_count()} CPU ({cpu}), load average {load:.1f}, Python {platform.python_version()}"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--frames", type=int, default=2000, help="timed frames per model and size")
+    parser.add_argument("--sizes", default="128x128,160x120", help="comma-separated WxH list")
+    parser.add_argument("--models", default=",".join(TABLES), help="comma-separated flood models")
+    parser.add_argument("--accuracy", type=int, default=0, help="also measure accuracy over this many frames")
+    parser.add_argument("--json", default=None, help="write all results to this file")
+    args = parser.parse_args()
+    models = [m for m in args.models.split(",") if m]
+    cameras = [CameraModel(*(int(v) for v in size.split("x"))) for size in args.sizes.split(",") if size]
+    print(machine())
+    t0 = time.perf_counter()
+    ground_textures(12345)
+    print(f"cold: texture tiles of a new seed {1e3 * (time.perf_counter() - t0):.0f} ms (once per seed)")
+    results: dict[str, Any] = {"machine": machine(), "timing": [], "accuracy": []}
+    print(f"{'model':10} {'size':8} {'build ms':>8}  {'render p50/p99':>15}  {'perceive p50/p99':>16}  {'both p50/p99':>13}")
+    for camera in cameras:
+        for name in models:
+            r = time_model(name, camera, args.frames)
+            results["timing"].append(r)
+            print(f"{name:10} {r['size']:8} {r['build_ms']:8.1f}  {r['render']['p50']:6.3f} / {r['render']['p99']:6.3f}"
+                  f"  {r['perceive']['p50']:7.3f} / {r['perceive']['p99']:6.3f}"
+                  f"  {r['render+perceive']['p50']:5.3f} / {r['render+perceive']['p99']:5.3f}")
+    if args.accuracy:
+        print("\naccuracy at 10 m (pooled water IoU, per-frame IoU p5, midpoint error p95/max, centroid max, edge median)")
+        for camera in cameras:
+            for name in models:
+                a = accuracy(name, args.accuracy, camera)
+                results["accuracy"].append(a)
+                print(f"{name:10} {a['size']:8} IoU {a['pooled_iou']:.4f} p5 {a['iou_p5']:.4f}  midpoint "
+                      f"{a['midpoint_err_m_p95']:.3f}/{a['midpoint_err_m_max']:.3f} m  centroid {a['centroid_err_m_max']:.3f} m"
+                      f"  edge {a['edge_err_m_median']:.3f} m  flags wrong {a['flag_errors']}/{a['frames']}")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(results, fh, indent=1)
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+        print(f"\ncommit {commit}")
+    except OSError:
+        pass
+
+
+if __name__ == "__main__":
+    main()
