@@ -55,8 +55,8 @@ class SensorEffects:
 
     gain_bgr: NDArray[np.float32]
     """(H, W, 3) multiplicative lighting: a sun gradient across the image and lens vignetting."""
-    noise_bgr: NDArray[np.float32]
-    """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise."""
+    noise_bgr: NDArray[np.int16]
+    """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise [DN], rounded."""
 
 
 def _smoothstep(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -103,5 +103,5 @@ def sensor_effects(seed: int, width_px: int, height_px: int) -> SensorEffects:
     gradient = 0.14 * (math.cos(sun) * x + math.sin(sun) * y) / 0.5
     vignette = -0.25 * (x * x + y * y)
     gain = np.repeat((1.0 + gradient + vignette)[..., None], 3, axis=2).astype(np.float32)
-    noise = rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3)).astype(np.float32)
+    noise = np.rint(rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3))).astype(np.int16)
     return SensorEffects(gain_bgr=gain, noise_bgr=noise)

@@ -23,7 +23,6 @@ from mock_autopilot.camera.appearance import (
     TILE_PX,
     TILE_RESOLUTION_M,
     WET_BAND_UNIT_M,
-    WET_SOIL_BGR,
     ground_textures,
     sensor_effects,
 )
@@ -34,7 +33,8 @@ MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
 MARGIN_PX = 8
 """Extra ring of pixels evaluated around the image so the wet band near the image border sees off-image water."""
-_WET_STRENGTH = 0.85
+_WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
+"""How much fully wet soil loses of each colour channel (B, G, R)."""
 
 
 @dataclass(frozen=True)
@@ -69,8 +69,11 @@ def ground_points_en_m(
     right_e, right_n = fwd_n, -fwd_e
     right, forward = _pixel_grid(camera.width_px, camera.height_px, margin_px)
     points = np.empty(right.shape + (2,))
-    points[..., 0] = east + gsd * (right * right_e + forward * fwd_e)
-    points[..., 1] = north + gsd * (right * right_n + forward * fwd_n)
+    for axis, origin, along_right, along_forward in ((0, east, right_e, fwd_e), (1, north, right_n, fwd_n)):
+        coordinate = right * (gsd * along_right)
+        coordinate += forward * (gsd * along_forward)
+        coordinate += origin
+        points[..., axis] = coordinate
     return points
 
 
@@ -109,42 +112,58 @@ def render_frame(
     inner = points[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
-    map_x, map_y = _texture_maps(inner, (float(pos[0]), float(pos[1])))
-    land = cv2.remap(textures.land_bgrw, map_x, map_y, cv2.INTER_NEAREST, borderMode=cv2.BORDER_WRAP)
-    colour = land[..., :3]
+    to_tile = _texture_transform(camera, (float(pos[0]), float(pos[1])), gsd, yaw_ned_rad)
+    land = _sample_tile(textures.land_bgrw, to_tile, w, h)
+    effects = sensor_effects(seed, w, h)
+    colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
+    wet_factor = None
     if water_padded.any():
         distance_px = cv2.distanceTransform((~water_padded).view(np.uint8), cv2.DIST_L2, 3)[m : m + h, m : m + w]
-        band_px = land[..., 3].astype(np.float32) * np.float32(WET_BAND_UNIT_M / gsd)
-        wetness = cv2.max(1.0 - distance_px / band_px, 0.0) * np.float32(_WET_STRENGTH)
-        colour = cv2.blendLinear(colour, _wet_soil_image(w, h), 1.0 - wetness, wetness)
-        water_tex = cv2.remap(textures.water_bgr, map_x, map_y, cv2.INTER_NEAREST, borderMode=cv2.BORDER_WRAP)
-        colour = cv2.copyTo(water_tex, water.view(np.uint8), colour)
+        band = cv2.extractChannel(land, 3).astype(np.float32)
+        wetness = 1.0 - cv2.divide(distance_px, band, scale=gsd / WET_BAND_UNIT_M)
+        np.copyto(wetness, 0.0, where=water)
+        wetness = cv2.max(wetness, 0.0)
+        # Wet soil is darker, and keeps more red than blue: a per-channel darkening of the land near the water.
+        wet_factor = cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
+        colour = cv2.copyTo(_sample_tile(textures.water_bgr, to_tile, w, h), water.view(np.uint8), colour)
 
-    effects = sensor_effects(seed, w, h)
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
-    shaded = cv2.multiply(colour, effects.gain_bgr, dtype=cv2.CV_32F)
-    shaded = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)])
-    image = np.clip(shaded, 0.0, 255.0).astype(np.uint8)
+    gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
+    shaded = cv2.multiply(colour, gain, dtype=cv2.CV_8U)
+    image = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
 
 
 
-def _texture_maps(
-    points_en_m: NDArray[np.float64], anchor_en_m: tuple[float, float]
-) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    """Texture-tile pixel coordinates of ground points; the tile repeats, so only the anchor's tile offset matters."""
-    scale = 1.0 / TILE_RESOLUTION_M
+def _texture_transform(
+    camera: CameraModel, anchor_en_m: tuple[float, float], gsd_m: float, yaw_ned_rad: float
+) -> NDArray[np.float64]:
+    """2x3 affine map from image pixel (column, row) to texture-tile pixel: the camera's ground projection is
+    affine (nadir view of flat ground), so the textures are sampled with one ``warpAffine`` and no per-pixel maps.
+    The tile repeats, so only the anchor's offset within its tile matters (keeps coordinates small)."""
     tile_m = TILE_PX * TILE_RESOLUTION_M
-    origin_e = math.floor(anchor_en_m[0] / tile_m) * tile_m
-    origin_n = math.floor(-anchor_en_m[1] / tile_m) * tile_m
-    map_x = ((points_en_m[..., 0] - origin_e) * scale).astype(np.float32)
-    map_y = ((-points_en_m[..., 1] - origin_n) * scale).astype(np.float32)
-    return map_x, map_y
+    east0, north0 = anchor_en_m
+    origin_e = math.floor(east0 / tile_m) * tile_m
+    origin_s = math.floor(-north0 / tile_m) * tile_m
+    heading = yaw_ned_to_enu_rad(yaw_ned_rad)
+    fwd_e, fwd_n = math.cos(heading), math.sin(heading)
+    right_e, right_n = fwd_n, -fwd_e
+    k = gsd_m / TILE_RESOLUTION_M
+    c0 = 0.5 - camera.width_px / 2.0
+    r0 = camera.height_px / 2.0 - 0.5
+    return np.array(
+        [
+            [k * right_e, -k * fwd_e, (east0 - origin_e) / TILE_RESOLUTION_M + k * (c0 * right_e + r0 * fwd_e)],
+            [-k * right_n, k * fwd_n, (-north0 - origin_s) / TILE_RESOLUTION_M - k * (c0 * right_n + r0 * fwd_n)],
+        ]
+    )
 
 
-@lru_cache(maxsize=8)
-def _wet_soil_image(width_px: int, height_px: int) -> NDArray[np.uint8]:
-    return np.broadcast_to(np.asarray(WET_SOIL_BGR, np.uint8), (height_px, width_px, 3)).copy()
+def _sample_tile(tile: NDArray[np.uint8], to_tile: NDArray[np.float64], width_px: int, height_px: int) -> NDArray[np.uint8]:
+    return cv2.warpAffine(
+        tile, to_tile, (width_px, height_px), flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
+        borderMode=cv2.BORDER_WRAP,
+    )
 
 
 def _noise_index(t_s: float, position_enu_m: NDArray[np.float64], seed: int) -> int:
