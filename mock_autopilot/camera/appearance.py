@@ -26,14 +26,13 @@ NOISE_FRAMES = 8
 SENSOR_NOISE_SIGMA = 4.0
 """Standard deviation of the additive sensor noise [digital numbers out of 255]."""
 
+WET_BAND_UNIT_M = 0.004
+"""Resolution of the packed wet-band width [m per count]."""
+
 # BGR colours (0-255) of the ground classes.
 _GRASS = np.array([55.0, 120.0, 80.0])
 _DRY_GRASS = np.array([70.0, 150.0, 150.0])
 _SOIL = np.array([70.0, 100.0, 130.0])
-WET_SOIL_BGR = (40.0, 55.0, 75.0)
-"""Colour the shoreline band darkens towards (BGR)."""
-WET_BAND_UNIT_M = 0.004
-"""Resolution of the packed wet-band width [m per count]."""
 _WATER_DEEP = np.array([120.0, 95.0, 70.0])
 _WATER_SKY = np.array([185.0, 165.0, 145.0])
 

@@ -109,7 +109,6 @@ def render_frame(
     points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m)
     water_padded = np.asarray(flood.is_water(points, t_s), dtype=bool)
     water = water_padded[m : m + h, m : m + w]
-    inner = points[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
     to_tile = _texture_transform(camera, (float(pos[0]), float(pos[1])), gsd, yaw_ned_rad)
