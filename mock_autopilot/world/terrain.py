@@ -26,17 +26,44 @@ NEVER_M = 1.0e6
 """Spill level of cells the flood never reaches (at or above its highest level)."""
 
 
-def spill_levels(heights_m: NDArray[np.floating], source_rc: tuple[int, int], max_level_m: float) -> NDArray[np.float32]:
+def spill_levels(
+    heights_m: NDArray[np.floating],
+    source_rc: tuple[int, int],
+    max_level_m: float,
+    min_level_m: float | None = None,
+) -> NDArray[np.float32]:
     """For each cell, the lowest water level at which it joins the source's component.
 
     Cells that would join only at ``max_level_m`` or above are not expanded (which bounds the work to the region
-    that ever floods); they get ``max(height, max_level_m)``, never below any level the flood reaches."""
+    that ever floods); they get ``max(height, max_level_m)``, never below any level the flood reaches.
+
+    With ``min_level_m`` (the lowest level the flood ever has), the component already flooded at that level is
+    found in one vectorised labelling and its cells keep their own height: they are water at every level that
+    matters, and any path out of that component is limited only by cells outside it (all at least
+    ``min_level_m`` high), so the priority flood that starts from its rim is still exact outside it. Only the ring
+    the flood grows into is then walked cell by cell.
+    """
     rows, cols = heights_m.shape
-    flat = np.asarray(heights_m, dtype=np.float64).ravel().tolist()
-    spill = [NEVER_M] * (rows * cols)
+    heights = np.asarray(heights_m, dtype=np.float64)
+    flat = heights.ravel().tolist()
     start = source_rc[0] * cols + source_rc[1]
-    spill[start] = flat[start]
-    queue = [(flat[start], start)]
+    if min_level_m is not None and flat[start] < min_level_m:
+        below = (heights < min_level_m).astype(np.uint8)
+        _, labels = cv2.connectedComponents(below, connectivity=4)
+        initial = labels == labels[source_rc]
+        outside = (~initial).astype(np.uint8)
+        cross = cv2.getStructuringElement(cv2.MORPH_CROSS, (3, 3))
+        rim = initial & (cv2.dilate(outside, cross, borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0)
+        spill_grid = np.full(rows * cols, NEVER_M)
+        spill_grid[initial.ravel()] = heights.ravel()[initial.ravel()]
+        spill = spill_grid.tolist()
+        rim_idx = np.flatnonzero(rim.ravel())
+        queue = list(zip(heights.ravel()[rim_idx].tolist(), rim_idx.tolist()))
+        heapq.heapify(queue)
+    else:
+        spill = [NEVER_M] * (rows * cols)
+        spill[start] = flat[start]
+        queue = [(flat[start], start)]
     while queue:
         level, idx = heapq.heappop(queue)
         if level > spill[idx]:
@@ -52,7 +79,7 @@ def spill_levels(heights_m: NDArray[np.floating], source_rc: tuple[int, int], ma
     # Cells never reached keep their own height (at least max_level_m) rather than NEVER_M: interpolating between a
     # flooded cell and a dry neighbour then puts the shore where the ground meets the water, not a cell inland.
     unreached = levels >= NEVER_M
-    levels[unreached] = np.maximum(np.asarray(heights_m, dtype=np.float64)[unreached], max_level_m)
+    levels[unreached] = np.maximum(heights[unreached], max_level_m)
     return levels.astype(np.float32)
 
 
@@ -71,7 +98,9 @@ class TerrainFlood:
     )
 
     def __post_init__(self) -> None:
-        spill = spill_levels(self.heightmap.heights_m, self.source_cell(), self.level_end_m + 1e-6)
+        spill = spill_levels(
+            self.heightmap.heights_m, self.source_cell(), self.level_end_m + 1e-6, min_level_m=self.level_start_m
+        )
         object.__setattr__(self, "spill_m", spill)
 
     def source_cell(self) -> tuple[int, int]:
