@@ -1,13 +1,15 @@
 """Land/water segmentation of the downward camera image and what eq 5 and Algorithm 1 need from it (paper §III-A.1).
 
-The perception is never told the truth. Water reflects the sky and is blue-grey; grass, dry grass, soil and wet
-shoreline soil are green-to-brown, so the blue-minus-red chroma axis (``(B − R)/2 + 128``) separates the two in
-every lighting (the lighting scales B and R alike): a per-frame Otsu threshold on that axis splits the pixels into two classes, and a small opening
-and closing remove sensor-noise speckle. When Otsu's two classes are not really different (the frame holds only
-one kind of ground), the frame is all land or all water, told apart by the sign of the chroma: Algorithm 1's climb
-rule. Otsu's threshold is trusted only near neutral grey (B = R): far from it, Otsu has split one class into two
-(grass and dry grass), and the neutral threshold decides. Pixels become ground offsets with the nadir pinhole geometry of SPEC §3 (ground sample
-``2 h tan(fov/2) / W`` metres per pixel), rotated by the vehicle's yaw into east/north.
+The perception is never told the truth. Water mirrors the sky and is blue-grey; grass, dry grass, soil and wet
+shoreline soil are green to brown. So the pixels are projected on a blue-yellow opponent axis, the "blueness"
+``B − (G + R)/2 + 128`` (the lighting scales every channel alike, so the sign of ``B − (G + R)/2`` holds in shade
+and sun): water is above neutral grey, land below. Otsu's method splits the frame into two classes on that axis;
+the threshold is then put half-way between the two class means (Otsu leans towards the larger class when the other
+is a small corner), and a small opening and closing remove sensor-noise specks. When the two classes are not
+really different, or the split lies far from neutral (Otsu has split grass from dry grass in a frame of land),
+the frame holds one kind of ground, told by which side of neutral it lies: Algorithm 1's climb rule. Pixels
+become ground offsets with the nadir pinhole geometry of SPEC §3 (``2 h tan(fov/2) / W`` metres per pixel),
+rotated by the vehicle's yaw into east/north.
 
 Bad input (not an image, wrong size, black, saturated, featureless, NaN altitude, bad field of view) gives
 ``PerceptionResult.no_measurement()``; nothing raises.
@@ -32,12 +34,12 @@ MAX_SIDE_PX = 4096
 MIN_CLASS_FRACTION = 0.005
 """A class covering less of the image than this is treated as absent (noise, a few stray pixels)."""
 NEUTRAL_CHROMA = 128.0
-"""Chroma of grey (B = R): water, which mirrors the sky, lies above it; vegetation and soil below."""
-MAX_THRESHOLD_SHIFT = 12.0
-"""Otsu's threshold is used only within this distance of neutral [DN]; further away it has split one class (grass
-from dry grass, say, in a frame with little or no water), and the neutral threshold is used instead."""
+"""Blueness of grey (B = G = R): water, which mirrors the sky, lies above it; vegetation and soil below."""
+MAX_THRESHOLD_SHIFT = 16.0
+"""The adaptive threshold is used only within this distance of neutral [DN]; further away it has split one class
+(grass from dry grass, say, in a frame with little or no water), and the neutral threshold is used instead."""
 MIN_CHROMA_SEPARATION = 10.0
-"""Otsu's two classes must differ by this much on the chroma axis [DN of (B − R)/2] to be two kinds of ground."""
+"""Otsu's two classes must differ by this much in mean blueness [DN] to be two kinds of ground."""
 DARK_MEAN_DN = 12.0
 """A frame darker than this on average is a black (failed or covered) camera."""
 SATURATED_FRACTION = 0.9
@@ -48,8 +50,8 @@ MAX_EDGE_POINTS = 64
 """At most this many edge points are returned (evenly taken along the edge)."""
 
 _OPEN_KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
-_CHROMA_ROW = np.array([[0.5, 0.0, -0.5, 128.0]], np.float32)
-"""``cv2.transform`` row giving ``B/2 − R/2 + 128`` from a BGR pixel in one pass."""
+_CHROMA_ROW = np.array([[1.0, -0.5, -0.5, 128.0]], np.float32)
+"""``cv2.transform`` row giving the blueness ``B − (G + R)/2 + 128`` of a BGR pixel in one pass."""
 
 
 def perceive(
@@ -75,22 +77,28 @@ def perceive(
 def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
     """(water mask or None for a one-class frame, chroma image, threshold) for a valid (H, W, 3) uint8 image.
 
-    The chroma is ``(B − R)/2 + 128`` (uint8); water is the high side of the threshold: Otsu's, when it falls
-    near neutral, else neutral. A one-class frame returns None as mask and the neutral chroma as threshold, for
+    The chroma is the blueness ``B − (G + R)/2 + 128`` (uint8); water is the high side of the threshold: half-way between the
+    means of Otsu's two classes, when that falls near neutral, else neutral. A one-class frame returns None as mask and the neutral chroma as threshold, for
     deciding which class it is.
     """
     chroma = cv2.transform(image_bgr, _CHROMA_ROW)
-    otsu, _ = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
-    threshold = float(otsu) if abs(float(otsu) - NEUTRAL_CHROMA) <= MAX_THRESHOLD_SHIFT else NEUTRAL_CHROMA
-    _, binary = cv2.threshold(chroma, threshold, 1, cv2.THRESH_BINARY)
-    n_high = cv2.countNonZero(binary)
+    otsu, binary = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
     n = binary.size
+    n_high = cv2.countNonZero(binary)
     if n_high == 0 or n_high == n:
         return None, chroma, NEUTRAL_CHROMA
     mean_all = cv2.mean(chroma)[0]
     mean_high = cv2.mean(chroma, mask=binary)[0]
     mean_low = (mean_all * n - mean_high * n_high) / (n - n_high)
     if mean_high - mean_low < MIN_CHROMA_SEPARATION:
+        return None, chroma, NEUTRAL_CHROMA
+    # Otsu leans towards the larger class when one class is small (a corner of water): split half-way between
+    # the two class means instead, and only near neutral grey.
+    threshold = 0.5 * (mean_low + mean_high)
+    if abs(threshold - NEUTRAL_CHROMA) > MAX_THRESHOLD_SHIFT:
+        threshold = NEUTRAL_CHROMA
+    _, binary = cv2.threshold(chroma, threshold, 1, cv2.THRESH_BINARY)
+    if cv2.countNonZero(binary) in (0, n):
         return None, chroma, NEUTRAL_CHROMA
     binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, _OPEN_KERNEL)
     binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, _OPEN_KERNEL)
