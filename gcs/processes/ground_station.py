@@ -105,6 +105,7 @@ class GroundStation:
         self.polygon_log: PolygonLog | None = None
         self._interrupted = False
         self._exited_agents: set[int] = set()
+        self._silent_vehicles: set[int] = set()
         self._command_seq = 0
         self._next_polygon_t_s = 0.0
         self._grid = CoverageGrid.around(*_flood_box(self.flood, self.duration_s), max_cells_per_side=100)
@@ -309,9 +310,14 @@ class GroundStation:
             return
         for vid in self.vehicle_ids:
             watch = watcher.vehicles.get(vid)
-            if watch is not None and watch.heartbeat_age_s(now_wall_s) > VEHICLE_LOST_AFTER_S and vid not in self.lost:
+            silent = watch is not None and watch.heartbeat_age_s(now_wall_s) > VEHICLE_LOST_AFTER_S
+            if silent and vid not in self._silent_vehicles:
+                self._silent_vehicles.add(vid)
                 self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {VEHICLE_LOST_AFTER_S:g} s")
                 self._mark_lost(vid)
+            elif not silent and vid in self._silent_vehicles:
+                self._silent_vehicles.discard(vid)
+                self.events(f"vehicle {vid}: heartbeat back on the GCS link")
 
     def _mark_lost(self, vid: int) -> None:
         if vid not in self.lost:

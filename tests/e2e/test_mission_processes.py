@@ -210,9 +210,8 @@ def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(tmp_
     assert "vehicle 6 lost: no heartbeat" in events, events[-3000:]
     assert "agent 6 exited with code 3" in events, events[-3000:]
     assert "vehicle lost" in _read(out / "agent_6.log")
-    lost_at = _event_time(events, "vehicle 6 lost")
-    agent_gone_at = _event_time(events, "agent 6 exited")
-    assert agent_gone_at - lost_at < 3.0, "the agent must notice its dead vehicle within 3 s"
+    agent_left_t_s = _event_mission_time(events, "agent 6 lost")  # its liveliness token vanished as it exited
+    assert agent_left_t_s - 30.0 < 3.0, f"the agent left {agent_left_t_s - 30.0:.2f} s after its vehicle died"
     metrics = json.loads((out / "metrics.json").read_text())
     assert [loss["vehicle_id"] for loss in metrics["losses"]] == [6]
 
@@ -301,42 +300,7 @@ def _read(path: Path) -> str:
         return ""
 
 
-def _event_time(events: str, text: str) -> float:
-    """Wall time (seconds of the day) of the first event line holding ``text``."""
+def _event_mission_time(events: str, text: str) -> float:
+    """Mission time (the fleet's clock, ``t=...s``) of the first event line holding ``text``."""
     line = next(line for line in events.splitlines() if text in line)
-    hh, mm, ss = line.split()[0].split(":")
-    return int(hh) * 3600 + int(mm) * 60 + float(ss)
-
-
-def _listen_to_public_keys(hub: str, mission: str, proc: subprocess.Popen[str]) -> tuple[list, dict]:  # noqa: ANN401
-    """Join the running mission like an outside Zenoh client and collect its public polygon and state keys."""
-    from comms.keys import MissionKeys
-    from comms.messages import FloodPolygon, NeighbourState, decode
-    from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
-
-    keys = MissionKeys(mission)
-    polygons: list[FloodPolygon] = []
-    states: dict[int, NeighbourState] = {}
-    deadline = time.monotonic() + 30.0
-    session = None
-    while session is None and time.monotonic() < deadline and proc.poll() is None:
-        try:
-            session = ZenohSession(ZenohConfig.client(hub))
-        except ZenohOpenError:
-            time.sleep(0.5)
-    if session is None:
-        return polygons, states
-    with session:
-        polygon_buf = session.subscribe(keys.polygon)
-        state_buf = session.subscribe(keys.all_states)
-        while proc.poll() is None:
-            time.sleep(0.2)
-            for item in polygon_buf.drain():
-                polygon = decode(FloodPolygon, item.payload)
-                if polygon is not None:
-                    polygons.append(polygon)
-            for item in state_buf.drain():
-                state = decode(NeighbourState, item.payload)
-                if state is not None:
-                    states[state.sender_id] = state
-    return polygons, states
+    return float(re.search(r"t=\s*([\d.]+)s", line).group(1))  # type: ignore[union-attr]
