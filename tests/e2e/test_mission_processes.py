@@ -304,3 +304,37 @@ def _event_mission_time(events: str, text: str) -> float:
     """Mission time (the fleet's clock, ``t=...s``) of the first event line holding ``text``."""
     line = next(line for line in events.splitlines() if text in line)
     return float(re.search(r"t=\s*([\d.]+)s", line).group(1))  # type: ignore[union-attr]
+
+
+def _listen_to_public_keys(hub: str, mission: str, proc: subprocess.Popen[str]) -> tuple[list, dict]:  # noqa: ANN401
+    """Join the running mission like an outside Zenoh client and collect its public polygon and state keys."""
+    from comms.keys import MissionKeys
+    from comms.messages import FloodPolygon, NeighbourState, decode
+    from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
+
+    keys = MissionKeys(mission)
+    polygons: list[FloodPolygon] = []
+    states: dict[int, NeighbourState] = {}
+    deadline = time.monotonic() + 30.0
+    session = None
+    while session is None and time.monotonic() < deadline and proc.poll() is None:
+        try:
+            session = ZenohSession(ZenohConfig.client(hub))
+        except ZenohOpenError:
+            time.sleep(0.5)
+    if session is None:
+        return polygons, states
+    with session:
+        polygon_buf = session.subscribe(keys.polygon)
+        state_buf = session.subscribe(keys.all_states)
+        while proc.poll() is None:
+            time.sleep(0.2)
+            for item in polygon_buf.drain():
+                polygon = decode(FloodPolygon, item.payload)
+                if polygon is not None:
+                    polygons.append(polygon)
+            for item in state_buf.drain():
+                state = decode(NeighbourState, item.payload)
+                if state is not None:
+                    states[state.sender_id] = state
+    return polygons, states
