@@ -101,6 +101,19 @@ def test_source_outside_the_dem(tmp_path: Path) -> None:
         flood_model_from_config(table)
 
 
+def test_a_16_bit_tiff_dem_builds_and_floods_the_basin(tmp_path: Path) -> None:
+    rows, cols = np.mgrid[0:64, 0:64]
+    heights_m = 0.01 * ((cols - 31.5) ** 2 + (rows - 31.5) ** 2)  # a bowl, 1 m cells, lowest at the centre
+    assert cv2.imwrite(str(tmp_path / "dem.tif"), np.round(heights_m * 100).astype(np.uint16))
+    table = {"model": "terrain", "dem_path": "dem.tif", "dem_cell_m": 1.0, "dem_height_scale_m": 0.01,
+             "level_start_m": 1.0, "level_end_m": 4.0}
+    flood = flood_model_from_config(table, base_dir=tmp_path)
+    assert isinstance(flood, TerrainFlood)
+    # Water below 1 m in a bowl of 0.01 r² is a disc of radius 10 m, then 20 m at 4 m.
+    assert flood.area_m2(0.0) == pytest.approx(np.pi * 100.0, rel=0.05)
+    assert flood.area_m2(60.0) == pytest.approx(np.pi * 400.0, rel=0.05)
+
+
 def test_dem_that_is_not_a_grey_image(tmp_path: Path) -> None:
     assert cv2.imwrite(str(tmp_path / "colour.png"), np.zeros((32, 32, 3), np.uint8))
     (tmp_path / "text.png").write_text("not an image")
