@@ -41,7 +41,11 @@ TABLES: dict[str, dict[str, Any]] = {
 }
 
 
-def poses(flood: FloodModel, n: int, altitude_m: float, seed: int) -> list[tuple[float, tuple[float, float, float], float]]:
+Pose = tuple[float, tuple[float, float, float], float]
+"""(flood time [s], position [m; ENU], PX4 yaw [rad])."""
+
+
+def poses(flood: FloodModel, n: int, altitude_m: float, seed: int) -> list[Pose]:
     """(t, position, yaw) within 6 m of a random point of the true edge."""
     rng = np.random.default_rng(seed)
     out = []
@@ -165,14 +169,16 @@ def main() -> None:
                   f" ({r['perceive_cpu']['p50']:5.3f}/{r['perceive_cpu']['p99']:5.3f})"
                   f"  {r['render+perceive']['p50']:5.3f}/{r['render+perceive']['p99']:6.3f}")
     if args.accuracy:
-        print("\naccuracy at 10 m (pooled water IoU, per-frame IoU p5, midpoint error p95/max, centroid max, edge median)")
+        print("\naccuracy at 10 m (pooled water IoU, per-frame IoU p5, midpoint error p95/max, centroid max, "
+              "edge median)")
         for camera in cameras:
             for name in models:
                 a = accuracy(name, args.accuracy, camera)
                 results["accuracy"].append(a)
                 print(f"{name:10} {a['size']:8} IoU {a['pooled_iou']:.4f} p5 {a['iou_p5']:.4f}  midpoint "
-                      f"{a['midpoint_err_m_p95']:.3f}/{a['midpoint_err_m_max']:.3f} m  centroid {a['centroid_err_m_max']:.3f} m"
-                      f"  edge {a['edge_err_m_median']:.3f} m  flags wrong {a['flag_errors']}/{a['frames']}")
+                      f"{a['midpoint_err_m_p95']:.3f}/{a['midpoint_err_m_max']:.3f} m"
+                      f"  centroid {a['centroid_err_m_max']:.3f} m  edge {a['edge_err_m_median']:.3f} m"
+                      f"  flags wrong {a['flag_errors']}/{a['frames']}")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(results, fh, indent=1)

@@ -1,4 +1,5 @@
-"""Regenerate the preview PNGs in this folder: one per flood model (``.venv/bin/python docs/previews/make_previews.py``).
+"""Regenerate the preview PNGs in this folder, one per flood model:
+``.venv/bin/python docs/previews/make_previews.py``.
 
 Each PNG shows, left to right: the flood from above at t = 0, 30 and 60 s with the drone's camera footprint; the
 128x128 camera frame the drone sees at t = 30 s; and what the onboard perception makes of it, drawn like the paper's

@@ -17,9 +17,9 @@ after the growth ends):
   the flood is the connected part of {height < level} that holds ``source_en_m``. Heightmap: either a seeded
   fractal basin (``terrain_size_m``, ``cell_m``, ``basin_scale_m``, ``relief_m``, ``roughness`` in [0, 1],
   ``terrain_seed``, default the scenario seed; heights ``relief_m·(r/basin_scale_m)² + relief_m/8·noise`` in metres
-  above the source, see ``heightmap.fractal_basin``) or a DEM image ``dem_path`` (16-bit or 8-bit single-channel PNG/TIFF read
-  with OpenCV; ``dem_cell_m``, ``dem_height_scale_m`` per count, ``dem_height_offset_m``, ``dem_center_en_m``;
-  image row 0 is the north edge).
+  above the source, see ``heightmap.fractal_basin``) or a DEM image ``dem_path`` (16-bit or 8-bit single-channel
+  PNG/TIFF read with OpenCV; ``dem_cell_m``, ``dem_height_scale_m`` per count, ``dem_height_offset_m``,
+  ``dem_center_en_m``; image row 0 is the north edge).
 """
 
 from __future__ import annotations
@@ -203,7 +203,8 @@ def _terrain(f: _Fields, seed: int) -> FloodModel:
         cells = size / cell
         if not 8 <= cells <= MAX_TERRAIN_CELLS:
             raise FloodConfigError(
-                f"{f.name('cell_m')}: terrain_size_m / cell_m = {cells:g} cells a side; must be 8 .. {MAX_TERRAIN_CELLS}"
+                f"{f.name('cell_m')}: terrain_size_m / cell_m = {cells:g} cells a side; "
+                f"must be 8 .. {MAX_TERRAIN_CELLS}"
             )
         roughness = f.number("roughness", 0.5, non_negative=True)
         if roughness > 1.0:

@@ -1,7 +1,8 @@
 """Ground heights on a regular grid: a seeded fractal basin or a user's DEM image (SPEC §3, terrain flood).
 
 Grid convention: row 0 is the north edge, column 0 the west edge, cell ``(row, col)`` has its centre at
-``east = cx + (col + ½ − cols/2)·cell``, ``north = cy − (row + ½ − rows/2)·cell`` around ``center_en_m = (cx, cy)``.
+``east = cx + (col + ½ − cols/2)·cell``, ``north = cy − (row + ½ − rows/2)·cell`` around
+``center_en_m = (cx, cy)``.
 """
 
 from __future__ import annotations

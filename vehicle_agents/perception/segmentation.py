@@ -77,9 +77,9 @@ def perceive(
 def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
     """(water mask or None for a one-class frame, chroma image, threshold) for a valid (H, W, 3) uint8 image.
 
-    The chroma is the blueness ``B − (G + R)/2 + 128`` (uint8); water is the high side of the threshold: half-way between the
-    means of Otsu's two classes, when that falls near neutral, else neutral. A one-class frame returns None as mask and the neutral chroma as threshold, for
-    deciding which class it is.
+    The chroma is the blueness ``B − (G + R)/2 + 128`` (uint8); water is the high side of the threshold: half-way
+    between the means of Otsu's two classes when that falls near neutral, else neutral. A one-class frame returns
+    None as mask and the neutral chroma as threshold, for deciding which class it is.
     """
     chroma = cv2.transform(image_bgr, _CHROMA_ROW)
     otsu, binary = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)

@@ -1,4 +1,5 @@
-"""``flood_model_from_config``: every scenario's [flood] table builds, and bad tables give one error naming the field."""
+"""``flood_model_from_config``: every scenario's [flood] table builds, and bad tables give one error naming
+the field."""
 
 from __future__ import annotations
 
