@@ -14,6 +14,7 @@ from comms.frames import GeodeticHome
 from mock_autopilot.faults import FaultSpec, FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet
 from mock_autopilot.mavlink_codec import parse_signing_key
+from mock_autopilot.ports import onboard_port_range
 from mock_autopilot.px4_params import ParamError, ParamStore
 from mock_autopilot.px4_streams import DEFAULT_PROFILE, STREAM_PROFILES
 from mock_autopilot.vehicle import VehicleConfig
@@ -90,7 +91,7 @@ def options_from_args(args: argparse.Namespace) -> FleetOptions:
     for name, port in (("--base-port", args.base_port), ("--gcs-port", args.gcs_port)):
         if not 1 <= port <= 65535:
             raise UsageError(f"{name} must be a UDP port (1-65535)")
-    if args.base_port + args.vehicles - 1 > 65535:
+    if onboard_port_range(args.base_port, args.vehicles, args.gcs_port)[1] > 65535:
         raise UsageError("--base-port + --vehicles exceeds 65535")
     params: dict[str, float] = {}
     for item in args.param:
@@ -166,10 +167,10 @@ def main(options: FleetOptions) -> int:
             print(f"mock_autopilot: cannot bind a link socket: {exc}", file=sys.stderr)
             return 1
         try:
-            last = options.base_port + options.vehicles - 1
+            first, last = onboard_port_range(options.base_port, options.vehicles, options.gcs_port)
             print(
-                f"mock_autopilot: {options.vehicles} vehicle(s), onboard -> 127.0.0.1:{options.base_port}"
-                f"{'' if last == options.base_port else f'-{last}'}, GCS -> 127.0.0.1:{options.gcs_port},"
+                f"mock_autopilot: {options.vehicles} vehicle(s), onboard -> 127.0.0.1:{first}"
+                f"{'' if last == first else f'-{last}'}, GCS -> 127.0.0.1:{options.gcs_port},"
                 f" speed x{options.speed:g}, rates {options.stream_profile}",
                 flush=True,
             )

@@ -8,7 +8,7 @@ Usage from Python (tests, the mission's simulator bridge)::
         fleet.drop_counters()          # per vehicle, per link, per reason
 
 The loop ticks every vehicle (physics, timers, due telemetry) at the period the fastest stream needs in wall time
-(1 / (rate x speed), between 5 and 20 ms) unless ``tick_period_s`` is given. Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i and its GCS link
+(1 / (rate x speed), between 5 and 20 ms) unless ``tick_period_s`` is given. Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i (skipping the GCS port, see ``ports.py``) and its GCS link
 to 127.0.0.1:gcs_port (PX4 SITL conventions). Each link binds its own local port (ephemeral by default, PX4's
 14580+i / 18570+i with ``px4_local_ports=True``).
 """
@@ -29,6 +29,7 @@ from comms.frames import local_ned_to_mission_enu, ned_to_enu
 from mock_autopilot.clock import SimClock
 from mock_autopilot.faults import FaultSpec
 from mock_autopilot.mavlink_codec import LinkCodec, SigningState
+from mock_autopilot.ports import onboard_port
 from mock_autopilot.px4_streams import GCS, LINKS, ONBOARD, STREAM_PROFILES
 from mock_autopilot.udp_link import UdpLink
 from mock_autopilot.vehicle import Outgoing, Vehicle, VehicleConfig
@@ -192,7 +193,7 @@ class Fleet:
 
     async def _open_links(self, i: int, vehicle: Vehicle) -> dict[str, UdpLink]:
         links: dict[str, UdpLink] = {}
-        remotes = {ONBOARD: (self.host, self.base_port + i), GCS: (self.host, self.gcs_port)}
+        remotes = {ONBOARD: (self.host, onboard_port(self.base_port, i, self.gcs_port)), GCS: (self.host, self.gcs_port)}
         local_ports = {
             ONBOARD: PX4_ONBOARD_LOCAL_BASE_PORT + i if self.px4_local_ports else 0,
             GCS: PX4_GCS_LOCAL_BASE_PORT + i if self.px4_local_ports else 0,
@@ -339,7 +340,7 @@ class Fleet:
         """Remote and bound addresses of vehicle ``instance``'s links."""
         links = self.links[instance]
         return VehiclePorts(
-            onboard_remote=(self.host, self.base_port + instance),
+            onboard_remote=(self.host, onboard_port(self.base_port, instance, self.gcs_port)),
             gcs_remote=(self.host, self.gcs_port),
             onboard_local=links[ONBOARD].local_address,
             gcs_local=links[GCS].local_address,

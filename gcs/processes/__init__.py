@@ -68,10 +68,6 @@ def run_processes(scenario: Scenario, options: ProcessOptions) -> int:
         scenario.control_params(options.mode)
         if not options.speed > 0:
             raise ValueError(f"--speed: must be > 0, got {options.speed:g}")
-        last_port = options.mavlink_base_port + len(scenario.vehicles) - 1
-        if options.mavlink_base_port <= options.gcs_port <= last_port:
-            raise ValueError(f"--gcs-port {options.gcs_port} lies inside the vehicles' MAVLink ports "
-                             f"{options.mavlink_base_port}-{last_port}")
     except (FloodConfigError, ControlParamsError, ValueError) as exc:
         print(f"gcs.mission: {exc}", file=sys.stderr)
         return EXIT_USAGE

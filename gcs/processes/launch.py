@@ -11,6 +11,7 @@ from pathlib import Path
 
 from comms.zenoh_session import DEFAULT_ENDPOINT
 from gcs.scenario import Scenario
+from mock_autopilot.ports import onboard_port
 
 
 @dataclass(frozen=True)
@@ -83,7 +84,7 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
 
 
 def agent_command(options: ProcessOptions, vehicle_id: int, role: str, mission: str) -> list[str]:
-    port = options.mavlink_base_port + vehicle_id - 1
+    port = onboard_port(options.mavlink_base_port, vehicle_id - 1, options.gcs_port)
     return [
         "vehicle_agents", "--id", str(vehicle_id), "--role", role, "--mavlink", f"udpin://0.0.0.0:{port}",
         "--link", options.agent_link, "--scenario", options.scenario_arg, *_set_args(options),
