@@ -31,7 +31,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m gcs.mission", description="Run a FloodWatch mission (SPEC §4-§6).")
     parser.add_argument("scenario", help="bundled scenario name (circle, ellipse, ...) or path to a .toml file")
     parser.add_argument("--engine", choices=ENGINES, default="processes", help="default: processes")
-    parser.add_argument("--mode", choices=MODES, default="paper", help="control laws: paper (default) or improved")
+    parser.add_argument("--mode", choices=MODES, default="improved",
+                        help="control laws: improved (default) or paper, the laws as printed (docs/RESULTS.md)")
     parser.add_argument("--seed", type=int, default=None, help="seed for the flood, camera noise and radio")
     parser.add_argument("--duration", type=float, default=None, metavar="S", help="simulated seconds (default: scenario)")
     parser.add_argument("--speed", type=float, default=1.0, metavar="S", help="simulation speed-up (processes engine)")

@@ -19,7 +19,7 @@ class MissionOptions:
 
     scenario: str
     engine: str = "processes"
-    mode: str = "paper"
+    mode: str = "improved"
     seed: int | None = None
     duration_s: float | None = None
     speed: float = 1.0

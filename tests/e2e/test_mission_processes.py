@@ -115,7 +115,7 @@ def test_readme_mission_command_improved_meets_targets(tmp_path: Path, mission_c
 
 @pytest.mark.slow
 def test_readme_mission_command_full_length_real_time(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
-    """The README's first command as a user runs it (paper mode, 60 s, real time), only the ports moved."""
+    """The README's first command as a user runs it (improved mode, 60 s, real time), only the ports moved."""
     out = tmp_path / "run"
     proc = mission_cli(["circle", "--out", str(out), "--base-port", "25700", "--gcs-port", "25750", "--no-live"],
                        "tcp/127.0.0.1:25760")
@@ -123,8 +123,8 @@ def test_readme_mission_command_full_length_real_time(tmp_path: Path, mission_cl
     assert proc.returncode == 0, stdout[-2000:] + stderr[-2000:]
     assert_no_orphans(out)
     s = _check_outputs(out, 58.0)["summary"]
-    # Paper mode does not converge in either engine (docs/BENCHMARKS.md, Mission): hold it to a caged flood only.
-    assert s["polygon_iou_final"] >= 0.75  # type: ignore[index]
+    assert s["polygon_iou_final"] >= 0.95  # type: ignore[index]
+    assert s["min_pairwise_distance_m"] >= 1.0 and s["near_miss_pairs"] == 0  # type: ignore[index]
 
 
 @pytest.mark.slow
