@@ -26,7 +26,8 @@ import numpy as np
 
 from mock_autopilot.camera.appearance import ground_textures
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import ground_points_en_m, render_frame
+from mock_autopilot.camera.render import render_frame
+from mock_autopilot.camera.truth import median_distance_to_shore_m, truth_reference
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
@@ -114,17 +115,11 @@ def accuracy(name: str, frames: int, camera: CameraModel, altitude_m: float = 10
         if not both:
             continue
         ious.append(float((mask & truth).sum() / (mask | truth).sum()))
-        offsets = ground_points_en_m(camera, position, yaw) - np.asarray(position[:2])
-        water_c, land_c = offsets[truth].mean(axis=0), offsets[~truth].mean(axis=0)
-        mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - 0.5 * (water_c + land_c))))
-        cen.append(max(float(np.linalg.norm(result.water_centroid_en_m - water_c)),
-                       float(np.linalg.norm(result.land_centroid_en_m - land_c))))
-        h_pairs = truth[:, :-1] != truth[:, 1:]
-        v_pairs = truth[:-1, :] != truth[1:, :]
-        shore = np.concatenate([0.5 * (offsets[:, :-1][h_pairs] + offsets[:, 1:][h_pairs]),
-                                0.5 * (offsets[:-1, :][v_pairs] + offsets[1:, :][v_pairs])])
-        d = np.sqrt(((result.edge_points_en_m[:, None, :] - shore[None]) ** 2).sum(-1)).min(axis=1)
-        edge.append(float(np.median(d)))
+        ref = truth_reference(camera, position, yaw, truth)
+        mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - ref.midpoint_en_m)))
+        cen.append(max(float(np.linalg.norm(result.water_centroid_en_m - ref.water_centroid_en_m)),
+                       float(np.linalg.norm(result.land_centroid_en_m - ref.land_centroid_en_m))))
+        edge.append(median_distance_to_shore_m(result.edge_points_en_m, ref))
     return {
         "model": name, "size": f"{camera.width_px}x{camera.height_px}", "altitude_m": altitude_m,
         "frames": frames, "frames_with_edge": len(mid),

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import RenderedFrame, ground_points_en_m, render_frame
+from mock_autopilot.camera.render import RenderedFrame, render_frame
+from mock_autopilot.camera.truth import median_distance_to_shore_m, truth_reference
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.perception.result import PerceptionResult
@@ -32,11 +33,6 @@ TABLES = {
                 "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
 }
 FRAMES_PER_MODEL = 200
-
-
-def truth_offsets_en_m(camera: CameraModel, position: tuple[float, float, float], yaw: float) -> np.ndarray:
-    points = ground_points_en_m(camera, position, yaw)
-    return points - np.asarray(position[:2])
 
 
 def predicted_mask(frame: RenderedFrame, result: PerceptionResult) -> np.ndarray:
@@ -78,20 +74,14 @@ def evaluate(flood: FloodModel, camera: CameraModel, altitude_m: float, n: int, 
         if not result.has_edge:
             wrong_class += 1
             continue
-        offsets = truth_offsets_en_m(camera, position, yaw)
-        water_c, land_c = offsets[truth].mean(axis=0), offsets[~truth].mean(axis=0)
-        midpoint_err.append(float(np.linalg.norm(result.midpoint_offset_en_m - 0.5 * (water_c + land_c))))
+        ref = truth_reference(camera, position, yaw, truth)
+        water_c, land_c = ref.water_centroid_en_m, ref.land_centroid_en_m
+        midpoint_err.append(float(np.linalg.norm(result.midpoint_offset_en_m - ref.midpoint_en_m)))
         centroid_err.append(max(float(np.linalg.norm(result.water_centroid_en_m - water_c)),
                                 float(np.linalg.norm(result.land_centroid_en_m - land_c))))
-        # True shore: midpoints between 4-neighbour pixel centres of different class.
-        h_pairs = truth[:, :-1] != truth[:, 1:]
-        v_pairs = truth[:-1, :] != truth[1:, :]
-        shore = np.concatenate([0.5 * (offsets[:, :-1][h_pairs] + offsets[:, 1:][h_pairs]),
-                                0.5 * (offsets[:-1, :][v_pairs] + offsets[1:, :][v_pairs])])
         points = result.edge_points_en_m
         assert points.ndim == 2 and points.shape[1] == 2 and len(points) > 0
-        d = np.sqrt(((points[:, None, :] - shore[None, :, :]) ** 2).sum(axis=-1)).min(axis=1)
-        edge_err.append(float(np.median(d)))
+        edge_err.append(median_distance_to_shore_m(points, ref))
         normal_dot.append(float(result.edge_normal_en @ (land_c - water_c) / np.linalg.norm(land_c - water_c)))
         left = np.array([-result.edge_tangent_en[1], result.edge_tangent_en[0]])
         tangent_water_left.append(float(left @ -result.edge_normal_en))
@@ -145,9 +135,7 @@ def test_offsets_are_world_east_north_at_any_yaw() -> None:
         yaw = math.radians(yaw_deg)
         frame = render_frame(flood, 0.0, (11.0, 2.0, 10.0), yaw, camera, seed=2)
         result = perceive(frame.image_bgr, 10.0, 60.0, yaw)
-        offsets = truth_offsets_en_m(camera, (11.0, 2.0, 10.0), yaw)
-        truth = frame.water_mask
-        midpoint = 0.5 * (offsets[truth].mean(axis=0) + offsets[~truth].mean(axis=0))
+        midpoint = truth_reference(camera, (11.0, 2.0, 10.0), yaw, frame.water_mask).midpoint_en_m
         np.testing.assert_allclose(result.midpoint_offset_en_m, midpoint, atol=0.05)
         normals.append(result.edge_normal_en)
     # The drone is just inside the east shore at bearing ~10°, so the normal (water -> land) points that way.
