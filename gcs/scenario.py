@@ -52,11 +52,16 @@ class VehicleSpec:
 
 @dataclass(frozen=True)
 class CameraSpec:
-    """Downward camera: image size [px] and field of view [deg]."""
+    """Downward camera: image size [px], field of view [deg] and frame rate [Hz of mission time].
+
+    The frame rate is the camera's own, slower than the control loop as on a real drone: between frames the control
+    law runs on the newest frame it has (both engines).
+    """
 
     width_px: int = 128
     height_px: int = 128
     fov_deg: float = 60.0
+    rate_hz: float = 10.0
 
 
 @dataclass(frozen=True)
@@ -84,7 +89,7 @@ class Scenario:
     radio: RadioSpec
     kinematics: KinematicLimits
     control: Mapping[str, Any]
-    control_rate_hz: float = 10.0
+    control_rate_hz: float = 20.0
     polygon_period_s: float = 1.0
     source_dir: Path = field(default=SCENARIO_DIR)
 
@@ -315,6 +320,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         width_px=_integer(cam_t, "width_px", 128, "camera", minimum=8),
         height_px=_integer(cam_t, "height_px", 128, "camera", minimum=8),
         fov_deg=_number(cam_t, "fov_deg", 60.0, "camera", positive=True, maximum=170.0),
+        rate_hz=_number(cam_t, "rate_hz", 10.0, "camera", positive=True, maximum=1000.0),
     )
     radio_t = _table(raw, "radio")
     radio = RadioSpec(
@@ -349,7 +355,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         radio=radio,
         kinematics=limits,
         control=_table(raw, "control"),
-        control_rate_hz=_number(raw, "control_rate_hz", 10.0, "scenario", positive=True, maximum=1000.0),
+        control_rate_hz=_number(raw, "control_rate_hz", 20.0, "scenario", positive=True, maximum=1000.0),
         polygon_period_s=_number(raw, "polygon_period_s", 1.0, "scenario", positive=True),
         source_dir=source_dir,
     )

@@ -5,7 +5,8 @@ flood clock starts when all are airborne), so take-off is not simulated here. Ea
 
 1. true positions -> each drone's own state (odometry = truth here; no drift in lockstep);
 2. every drone broadcasts its state; the radio model delivers by range, loss and latency;
-3. every drone's camera frame is rendered and segmented (``render_frame`` + ``perceive``);
+3. when a camera frame is due (``[camera] rate_hz``, slower than the control loop) every drone's frame is rendered
+   and segmented (``render_frame`` + ``perceive``); in between, each drone keeps its newest result, as an agent does;
 4. ``control_step`` of its role gives a velocity setpoint;
 5. the ground station's caged polygon is rebuilt from the boundary drones' positions and the edge points their
    state messages carry (each ``polygon_period_s``);
@@ -85,7 +86,7 @@ def run_lockstep(
 ) -> LockstepResult:
     """Run ``scenario`` in ``mode`` to ``duration_s`` (default: the scenario's) and return the record.
 
-    ``cameras = "all"`` renders and segments every vehicle's camera at every control step; ``"boundary"`` only the
+    ``cameras = "all"`` renders and segments every vehicle's camera at every frame time; ``"boundary"`` only the
     boundary drones' (the only law that reads images, as the process engine's simulator bridge streams by default);
     the others then get no perception result.
     """
@@ -121,6 +122,9 @@ def run_lockstep(
     encircle_time_s: float | None = None
     events: list[tuple[float, str]] = [(0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {n} vehicles")]
     next_polygon_t = 0.0
+    frame_period_s = 1.0 / scenario.camera.rate_hz
+    next_frame_t = 0.0
+    perceptions: list[PerceptionResult | None] = [None] * n
     frames = 0
     wall_start = time.perf_counter()
     cpu_start = time.process_time()
@@ -136,13 +140,15 @@ def run_lockstep(
         ]
         radio.broadcast(k, t_s, positions, [own_broadcast(memories[i], owns[i], t_s) for i in range(n)])
         radio.deliver(t_s)
+        frame_due = t_s + 1e-9 >= next_frame_t
+        if frame_due:
+            next_frame_t += frame_period_s * max(1, math.floor((t_s + 1e-9 - next_frame_t) / frame_period_s) + 1)
         commands = np.zeros((n, 3))
         for i, vehicle in enumerate(vehicles):
-            perception = None
-            if cameras == "all" or vehicle.role == ROLE_BOUNDARY:
-                perception = _perception_for(flood, t_s, positions[i], camera, seed)
+            if frame_due and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
+                perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed)
                 frames += 1
-            command, memories[i] = control_step(vehicle.role, memories[i], owns[i], perception,
+            command, memories[i] = control_step(vehicle.role, memories[i], owns[i], perceptions[i],
                                                 radio.heard_by(i, t_s), params, t_s)
             commands[i] = command.velocity_enu_mps
         t_rec[k] = t_s

@@ -78,7 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall second")
     p.add_argument("--base-port", type=int, default=14540)
     p.add_argument("--gcs-port", type=int, default=14550)
-    p.add_argument("--camera-hz", type=float, help="camera frame rate in mission time (default: the control rate)")
+    p.add_argument("--camera-hz", type=float, help="camera frame rate in mission time (default: the scenario's [camera] rate_hz)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
     p.add_argument("--cameras", choices=("boundary", "all", "none"), default="boundary",
                    help="whose camera this process streams: the boundary drones (the only law that uses images), "
@@ -100,7 +100,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         faults = [parse_fault(text) for text in args.fault]
         if not args.speed > 0:
             raise ValueError(f"--speed {args.speed}: must be > 0")
-        camera_hz = args.camera_hz or scenario.control_rate_hz
+        camera_hz = args.camera_hz or scenario.camera.rate_hz
         truth_hz = args.truth_hz or scenario.control_rate_hz
         if not (camera_hz > 0 and truth_hz > 0):
             raise ValueError("--camera-hz and --truth-hz must be > 0")

@@ -35,7 +35,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scenario", default="circle")
     p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
     p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
-    p.add_argument("--camera-hz", type=float, help="frame rate in mission time (default: the control rate)")
+    p.add_argument("--camera-hz", type=float, help="frame rate in mission time (default: the scenario's [camera] rate_hz)")
     p.add_argument("--cameras", choices=("boundary", "all"), default="boundary")
     p.add_argument("--log-level", default="INFO")
     add_zenoh_arguments(p)
@@ -49,7 +49,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         scenario = load_scenario(args.scenario, args.overrides)
         mission = validate_mission(args.mission or scenario.name)
         zenoh = zenoh_config_from_args(args)
-        camera_hz = args.camera_hz or scenario.control_rate_hz
+        camera_hz = args.camera_hz or scenario.camera.rate_hz
         if not camera_hz > 0:
             raise ValueError("--camera-hz must be > 0")
         flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)

@@ -24,9 +24,10 @@ def test_record_shapes_and_ground_station_polygons() -> None:
     result = run_lockstep(scenario, "paper", duration_s=2.0)
     rec = result.record
     n = len(scenario.vehicles)
-    assert rec.positions_enu_m.shape == (21, n, 3) and rec.commands_enu_mps.shape == (21, n, 3)
+    assert (scenario.control_rate_hz, scenario.camera.rate_hz) == (20.0, 10.0)
+    assert rec.positions_enu_m.shape == (41, n, 3) and rec.commands_enu_mps.shape == (41, n, 3)
     assert rec.engine == "lockstep" and rec.mode == "paper" and rec.seed == scenario.seed
-    assert result.frames == 21 * n  # a camera frame for every vehicle at every control step
+    assert result.frames == 21 * n  # a camera frame for every vehicle at every other control step (10 Hz of 20 Hz)
     assert len(rec.polygons) == 3 and all(p.ring_en_m.shape[1] == 2 for p in rec.polygons)
     assert np.allclose(rec.positions_enu_m[0, :, 2], scenario.altitude_m)
 
