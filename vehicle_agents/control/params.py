@@ -84,6 +84,10 @@ class ControlParams:
     safety_min_distance_m: float = 2.5
     """Improved: the barrier filter never lets a command close a gap below this."""
     safety_closing_rate_per_s: float = 1.0
+    safety_braking_mps2: float = 2.0
+    """Improved: the deceleration the barrier counts on (PX4's MPC_ACC_HOR is 3 m/s²; the rest is margin)."""
+    safety_reaction_s: float = 0.5
+    """Improved: how long a drone keeps closing before it brakes: control period, PX4's velocity response, radio."""
     edge_point_tracking: bool = False
     """Improved: track the edge points the camera sees under the drone instead of the land/water midpoint."""
     roster: tuple[RosterEntry, ...] = field(default_factory=tuple)
@@ -102,7 +106,8 @@ class ControlParams:
             raise ControlParamsError(f"control.fov_deg: must be < 180, got {self.fov_deg}")
         for name in ("encircle_speed_mps", "separation_gain_mps", "climb_speed_mps", "descent_speed_mps",
                      "meet_distance_m", "min_encircle_travel_m", "spacing_gain_per_s", "safety_radius_m",
-                     "safety_gain_mps", "safety_min_distance_m", "safety_closing_rate_per_s", "neighbour_timeout_s", "k_altitude_per_s"):
+                     "safety_gain_mps", "safety_min_distance_m", "safety_closing_rate_per_s", "safety_braking_mps2",
+                     "safety_reaction_s", "neighbour_timeout_s", "k_altitude_per_s"):
             if not getattr(self, name) >= 0.0:
                 raise ControlParamsError(f"control.{name}: must be >= 0, got {getattr(self, name)}")
         for name in ("k_boundary_per_s", "k_leader_per_s", "k_follower_per_s"):

@@ -4,11 +4,14 @@ The paper separates boundary drones from boundary drones (eq 6) and followers fr
 follower and the leader, or a boundary drone and a follower, never push each other. Here every vehicle heard of
 the same or a higher right of way (:data:`RIGHT_OF_WAY`) within ``radius_m`` pushes this one away with
 ``gain · (1 − x/radius)²`` m/s, strong enough near contact to beat
-the tracking terms, zero at the radius.
+the tracking terms, zero at the radius. Last comes a barrier filter (:func:`safety_filter`) on the command that
+counts on no more braking than PX4 gives and on neighbours' positions carried forward by their message age, so
+that radio delay and a fast head-on approach cannot close a gap below the minimum.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -48,6 +51,37 @@ def safety_velocity(
     return (strength[:, None] * diff[near]).sum(axis=0)
 
 
+def stopping_speed_mps(gap_m: float, braking_mps2: float, reaction_s: float) -> float:
+    """The fastest approach [m/s] from which a vehicle still stops within ``gap_m``.
+
+    Solves ``v·reaction_s + v²/(2·braking_mps2) = gap_m`` for v: the vehicle keeps closing for the reaction time
+    (control period, PX4's velocity response, radio delay) and then brakes at ``braking_mps2``. Zero for no gap.
+    """
+    if gap_m <= 0.0:
+        return 0.0
+    if braking_mps2 <= 0.0:
+        return gap_m / reaction_s if reaction_s > 0.0 else math.inf
+    return braking_mps2 * (math.sqrt(reaction_s * reaction_s + 2.0 * gap_m / braking_mps2) - reaction_s)
+
+
+def predicted_positions_en_m(neighbours: Sequence[NeighbourInfo], horizon_cap_s: float = 1.0) -> NDArray[np.float64]:
+    """Where the neighbours are now [m; E, N]: their last heard position carried forward by their heard velocity over
+    the message's age (at most ``horizon_cap_s``). A message 0.2 s old from a drone at 4 m/s is 0.8 m out of date."""
+    if not neighbours:
+        return np.zeros((0, 2))
+    positions = np.array([n.position_en_m for n in neighbours], dtype=float).reshape(-1, 2)
+    velocities = np.array([n.velocity_en_mps for n in neighbours], dtype=float).reshape(-1, 2)
+    ages = np.clip([n.age_s for n in neighbours], 0.0, horizon_cap_s)
+    return positions + velocities * ages[:, None]
+
+
+def braking_horizon_m(min_distance_m: float, closing_speed_mps: float, braking_mps2: float, reaction_s: float) -> float:
+    """Beyond this distance no neighbour can constrain a drone closing at ``closing_speed_mps`` (so the barrier
+    may ignore it): the minimum distance plus the reaction and braking distance at that speed."""
+    braking = closing_speed_mps**2 / (2.0 * braking_mps2) if braking_mps2 > 0.0 else math.inf
+    return min_distance_m + closing_speed_mps * reaction_s + braking
+
+
 def safety_filter(
     velocity_en_mps: NDArray[np.float64],
     own_en_m: NDArray[np.float64],
@@ -56,15 +90,20 @@ def safety_filter(
     radius_m: float,
     closing_rate_per_s: float,
     others_velocity_en_mps: NDArray[np.float64] | None = None,
+    braking_mps2: float = 0.0,
+    reaction_s: float = 0.0,
 ) -> NDArray[np.float64]:
     """Limit the speed towards each close neighbour so that the gap can never close below ``min_distance_m``.
 
     For a neighbour at distance x < ``radius_m`` in direction u, the component of the command along u is capped at
-    ``closing_rate_per_s · (x − min_distance_m) + v_h · u`` (negative inside the minimum: move away), where v_h is
-    the neighbour's last heard velocity: this drone alone keeps the closing speed within the barrier, whatever the
-    other does (a peer doing the same only adds margin). A control-barrier style filter, applied neighbour by
-    neighbour, nearest last so that it has the final word; with several close neighbours the constraints are
-    projected on cyclically (:data:`_PASSES` rounds) so that a later correction seldom undoes an earlier one.
+    ``min(closing_rate_per_s · (x − min_distance_m), stopping_speed_mps(x − min_distance_m)) + v_h · u`` (negative
+    inside the minimum: move away), where v_h is the neighbour's last heard velocity: this drone alone keeps the
+    closing speed within the barrier, whatever the other does (a peer doing the same only adds margin). The linear
+    term is the barrier near the minimum; the stopping term (when ``braking_mps2`` > 0) keeps a fast approach from
+    further out within what PX4's acceleration limit can still stop, so the barrier acts before it is too late.
+    A control-barrier style filter, applied neighbour by neighbour, nearest last so that it has the final word; with
+    several close neighbours the constraints are projected on cyclically (:data:`_PASSES` rounds) so that a later
+    correction seldom undoes an earlier one.
     """
     v = np.asarray(velocity_en_mps, dtype=float).copy()
     others = np.asarray(others_en_m, dtype=float).reshape(-1, 2)
@@ -77,7 +116,10 @@ def safety_filter(
         for k in close:
             x = float(dist[k])
             u = diff[k] / x
-            allowed = closing_rate_per_s * (x - min_distance_m)
+            gap_m = x - min_distance_m
+            allowed = closing_rate_per_s * gap_m
+            if braking_mps2 > 0.0 and gap_m > 0.0:
+                allowed = min(allowed, stopping_speed_mps(gap_m, braking_mps2, reaction_s))
             if others_velocity_en_mps is not None:
                 allowed += float(np.dot(others_velocity_en_mps[k], u))
             along = float(np.dot(v, u))
