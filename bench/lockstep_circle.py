@@ -1,5 +1,5 @@
 """Benchmark: wall time of `circle` in the lockstep engine (13 vehicles, 60 s simulated, camera + perception of
-every vehicle at every control step), in both modes, plus where the time goes (render, perceive, control).
+every vehicle at every camera frame), in both modes, plus where the time goes (render, perceive, control).
 
     .venv/bin/python -m bench.lockstep_circle [--repeat N] [--set key=value ...]
 """
@@ -39,11 +39,12 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--set", dest="overrides", action="append", default=[])
     parser.add_argument("--cameras", choices=("all", "boundary"), default="all",
-                        help="whose camera is rendered and segmented every step (default: every vehicle's)")
+                        help="whose camera is rendered and segmented at every frame (default: every vehicle's)")
     ns = parser.parse_args()
     scenario = load_scenario("circle", ns.overrides)
     print(f"circle: {len(scenario.vehicles)} vehicles, {scenario.duration_s:.0f} s simulated, control "
-          f"{scenario.control_rate_hz:g} Hz, camera {scenario.camera.width_px}x{scenario.camera.height_px}, cameras {ns.cameras}")
+          f"{scenario.control_rate_hz:g} Hz, camera {scenario.camera.width_px}x{scenario.camera.height_px} at "
+          f"{scenario.camera.rate_hz:g} Hz, cameras {ns.cameras}")
     print("stage costs:", {k: round(v, 3) for k, v in stage_costs_ms(ns.overrides).items()})
     for mode in ("paper", "improved"):
         walls, cpus = [], []
