@@ -1,12 +1,12 @@
 """Benchmark: the largest fleet the lockstep engine still runs at >= 1x real time (camera + perception of every
-vehicle at every control step).
+vehicle at every camera frame).
 
 Fleets are the `circle` scenario scaled up: boundary drones per group b, followers in one layer sized like the
 paper's (half the boundary count), the flood radius and radio range scaled with sqrt(N / 13) so that the area per
 vehicle stays the paper's. Each size runs ``--sim`` seconds of improved mode (the first seconds include the
 encircling, the busiest phase).
 
-    .venv/bin/python -m bench.lockstep_scale [--sim 10] [--sizes 4 8 12 16 24]
+    .venv/bin/python -m bench.lockstep_scale [--sim 10] [--sizes 4 8 12 16 24] [--set control_rate_hz=10 ...]
 """
 
 from __future__ import annotations
@@ -39,12 +39,14 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="*", default=[4, 8, 12, 16, 24])
     parser.add_argument("--mode", default="improved")
     parser.add_argument("--cameras", choices=("all", "boundary"), default="all",
-                        help="whose camera is rendered and segmented every step (default: every vehicle's)")
+                        help="whose camera is rendered and segmented at every frame (default: every vehicle's)")
+    parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                        help="scenario override applied after the scaling, e.g. control_rate_hz=10")
     ns = parser.parse_args()
     print("| vehicles | boundary | followers | sim [s] | wall [s] | x real time (wall) | CPU [s] | x real time (CPU) |")
     print("|---|---|---|---|---|---|---|---|")
     for per_group in ns.sizes:
-        scenario = load_scenario("circle", scaled_overrides(per_group))
+        scenario = load_scenario("circle", scaled_overrides(per_group) + ns.overrides)
         result = run_lockstep(scenario, ns.mode, duration_s=ns.sim, cameras=ns.cameras)
         n = len(scenario.vehicles)
         print(f"| {n} | {2 * per_group} | {n - 2 * per_group - 1} | {ns.sim:g} | {result.wall_s:.2f} | "
