@@ -21,6 +21,7 @@ import asyncio
 import datetime as dt
 import json
 import math
+import os
 import signal
 import sys
 import time
@@ -40,6 +41,7 @@ from gcs.metrics.polygon_quality import polygon_iou
 from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
 from gcs.processes.event_log import EventLog
+from gcs.processes.host_capacity import estimate_capacity
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
 from gcs.processes.mavlink_watch import MavlinkWatcher
@@ -125,6 +127,7 @@ class GroundStation:
             self.events(f"mission {self.mission}: scenario {self.scenario.name}, mode {self.options.mode}, seed "
                         f"{self.scenario.seed}, {len(self.vehicle_ids)} vehicles, speed x{self.options.speed:g}, "
                         f"duration {self.duration_s:g} s, output {self.out_dir}")
+            self._warn_if_host_too_small()
             hub = self._open_hub()
             watcher = MavlinkWatcher(self.out_dir, self.events)
             try:
@@ -154,6 +157,14 @@ class GroundStation:
             self._finish(code)
             self.events.close()
         return code
+
+    def _warn_if_host_too_small(self) -> None:
+        estimate = estimate_capacity(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed,
+                                     len(os.sched_getaffinity(0)))
+        warning = estimate.warning(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed)
+        if warning is not None:
+            self.events(warning)
+            self.console.print(f"[bold yellow]{warning}[/]")
 
     def interrupt(self) -> None:
         """Stop the mission as Ctrl-C does (thread-safe: the loop polls the flag)."""

@@ -1,0 +1,55 @@
+"""Will this machine keep up? A pure estimate of the CPU a processes-engine mission needs (warned about, not enforced).
+
+An overloaded simulation host is not a safe one: agents fall behind their control rate, setpoints reach the
+autopilots late, PX4's offboard-loss failsafe fires and drones pass closer than the collision barrier allows
+(docs/BENCHMARKS.md, Mission). The figures below are the per-process CPU shares measured there on a 2-core Xeon:
+an agent costs ~4.5 % of a core at 5 Hz, ~6.5 % at 10 Hz and ~10 % at 20 Hz of wall-clock control rate (a fixed part
+for MAVSDK's and Zenoh's threads plus a part per step), and the fleet, camera, radio and ground-station processes
+together ~0.55 core for 13 vehicles, growing slowly with the fleet.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+AGENT_FIXED_CORES = 0.027
+"""An idle agent's share of a core (MAVSDK's and Zenoh's own threads, telemetry)."""
+AGENT_CORES_PER_HZ = 0.0036
+"""An agent's extra share of a core per control step per wall second."""
+SERVICES_CORES = 0.45
+"""Fleet, cameras, radio and ground station, without vehicles (measured nearly flat from x1 to x2)."""
+SERVICES_CORES_PER_VEHICLE = 0.008
+WARN_ABOVE = 1.1
+"""Warn when the estimate exceeds this many times the machine's cores. The shares were measured on a busy machine,
+where every process got a little less than it asked, so the estimate runs high: on 2 cores the runs that held
+estimate up to 2.1 cores (13 agents at 20 Hz x1.25, 19 at 10 Hz, 25 at 5 Hz), those that did not 2.25 and more
+(34 at 5 Hz held once and failed once, 19 at 20 Hz, 13 at 20 Hz x1.5)."""
+
+
+@dataclass(frozen=True)
+class CapacityEstimate:
+    """Cores the mission is expected to need against the cores this machine has."""
+
+    needed_cores: float
+    available_cores: int
+
+    @property
+    def fits(self) -> bool:
+        return self.needed_cores <= WARN_ABOVE * self.available_cores
+
+    def warning(self, vehicles: int, control_rate_hz: float, speed: float) -> str | None:
+        """One line for the user when the mission is not expected to keep up, else None."""
+        if self.fits:
+            return None
+        return (f"warning: {vehicles} agents at {control_rate_hz:g} Hz x{speed:g} need about {self.needed_cores:.1f} "
+                f"cores, this machine has {self.available_cores}: agents will fall behind and vehicles may pass too "
+                "close; lower --speed or control_rate_hz, or use --engine lockstep")
+
+
+def estimate_capacity(vehicles: int, control_rate_hz: float, speed: float, available_cores: int) -> CapacityEstimate:
+    """The estimate for ``vehicles`` agents stepping at ``control_rate_hz`` of mission time, ``speed`` times faster
+    than the wall clock, on ``available_cores``."""
+    wall_rate_hz = control_rate_hz * speed
+    agents = vehicles * (AGENT_FIXED_CORES + AGENT_CORES_PER_HZ * wall_rate_hz)
+    services = SERVICES_CORES + SERVICES_CORES_PER_VEHICLE * vehicles
+    return CapacityEstimate(needed_cores=agents + services, available_cores=max(1, available_cores))
