@@ -27,20 +27,10 @@ import numpy as np
 from mock_autopilot.camera.appearance import ground_textures
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
-from mock_autopilot.camera.truth import median_distance_to_shore_m, truth_reference
+from mock_autopilot.camera.truth import ACCURACY_FLOODS, median_distance_to_shore_m, truth_reference
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
-
-TABLES: dict[str, dict[str, Any]] = {
-    "circle": {"model": "circle"},
-    "ellipse": {"model": "ellipse", "orientation_deg": 20.0},
-    "nonconvex": {"model": "nonconvex", "phase_rad": 0.7},
-    "drift": {"model": "drift", "shape": "circle", "velocity_en_mps": [0.12, 0.09]},
-    "terrain": {"model": "terrain", "level_start_m": 1.0, "level_end_m": 2.0, "terrain_size_m": 120.0, "cell_m": 0.5,
-                "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
-}
-
 
 Pose = tuple[float, tuple[float, float, float], float]
 """(flood time [s], position [m; ENU], PX4 yaw [rad])."""
@@ -67,7 +57,7 @@ def percentiles_ms(samples_s: list[float]) -> dict[str, float]:
 
 def time_model(name: str, camera: CameraModel, frames: int) -> dict[str, Any]:
     t0 = time.perf_counter()
-    flood = flood_model_from_config(TABLES[name], seed=1)
+    flood = flood_model_from_config(ACCURACY_FLOODS[name], seed=1)
     build_s = time.perf_counter() - t0
     plan = poses(flood, frames, 10.0, seed=5)
     render_frame(flood, plan[0][0], plan[0][1], plan[0][2], camera, 1)  # warm caches (textures, noise bank)
@@ -92,7 +82,7 @@ def time_model(name: str, camera: CameraModel, frames: int) -> dict[str, Any]:
 
 def accuracy(name: str, frames: int, camera: CameraModel, altitude_m: float = 10.0) -> dict[str, Any]:
     """Pooled water IoU, per-frame IoU p5, midpoint / centroid error, edge-point error, flag agreement."""
-    flood = flood_model_from_config(TABLES[name], seed=3)
+    flood = flood_model_from_config(ACCURACY_FLOODS[name], seed=3)
     inter = union = 0
     ious, mid, cen, edge = [], [], [], []
     flag_errors = 0
@@ -140,7 +130,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--frames", type=int, default=2000, help="timed frames per model and size")
     parser.add_argument("--sizes", default="128x128,160x120", help="comma-separated WxH list")
-    parser.add_argument("--models", default=",".join(TABLES), help="comma-separated flood models")
+    parser.add_argument("--models", default=",".join(ACCURACY_FLOODS), help="comma-separated flood models")
     parser.add_argument("--accuracy", type=int, default=0, help="also measure accuracy over this many frames")
     parser.add_argument("--json", default=None, help="write all results to this file")
     args = parser.parse_args()

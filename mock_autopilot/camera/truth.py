@@ -2,19 +2,29 @@
 
 The accuracy tests and the camera benchmark score ``perceive`` against the same reference: the true water and land
 centroids, their midpoint (the ``p − q`` of eq 5) and the true shore, all as metric offsets from the point below
-the drone [m; east, north]. Pure: mask and pose in, numbers out.
+the drone [m; east, north], on the same flood models (:data:`ACCURACY_FLOODS`). Pure: mask and pose in, numbers out.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import ground_points_en_m
+
+ACCURACY_FLOODS: Mapping[str, Mapping[str, Any]] = {
+    "circle": {"model": "circle"},
+    "ellipse": {"model": "ellipse", "orientation_deg": 20.0},
+    "nonconvex": {"model": "nonconvex", "phase_rad": 0.7},
+    "drift": {"model": "drift", "shape": "circle", "velocity_en_mps": [0.12, 0.09]},
+    "terrain": {"model": "terrain", "level_start_m": 1.0, "level_end_m": 2.0, "terrain_size_m": 120.0, "cell_m": 0.5,
+                "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
+}
+"""One ``[flood]`` table per model for the perception accuracy test and benchmark, so both score the same floods."""
 
 
 @dataclass(frozen=True)

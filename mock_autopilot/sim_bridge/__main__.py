@@ -148,10 +148,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 stop.wait(min(wait_s, 0.05))
             log.info("bridge sent %d truth samples", bridge.truths_sent)
             if streamer is not None:
-                log.info("bridge sent %d frames; camera frame rate %.2f Hz per airborne vehicle (nominal %.2f Hz, "
-                         "mission time)", streamer.frames_sent, streamer.frame_rate_hz(), camera_hz)
-                log.info("bridge: rendering %.1f s wall (%.1f s CPU), publishing %.1f s wall", streamer.render_wall_s,
-                         streamer.render_cpu_s, streamer.publish_wall_s)
+                log.info("bridge %s", streamer.summary())
             if setpoint_ages_s:
                 p50, p99 = np.percentile(setpoint_ages_s, [50, 99])
                 log.info("setpoint age at the autopilot [mission s]: p50 %.4f p99 %.4f max %.4f (%d samples)",

@@ -178,6 +178,12 @@ class CameraStreamer:
     def next_due_s(self) -> float:
         return self._next_camera_s
 
+    def summary(self) -> str:
+        """One line for the process's exit log: frames, achieved against nominal frame rate, where the time went."""
+        return (f"sent {self.frames_sent} frames; camera frame rate {self.frame_rate_hz():.2f} Hz per airborne vehicle "
+                f"(nominal {1.0 / self.camera_period_s:.2f} Hz, mission time); rendering {self.render_wall_s:.1f} s "
+                f"wall ({self.render_cpu_s:.1f} s CPU), publishing {self.publish_wall_s:.1f} s wall")
+
 
 class SimBridge:
     """The fleet process's side: ground truth every ``truth_period_s`` (mission seconds) and, unless the cameras

@@ -83,10 +83,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                     continue
                 latest_t_s = truth.t_s
                 streamer.stream(truth.t_s, vehicles_from_truth(truth))
-        log.info("cameras sent %d frames; camera frame rate %.2f Hz per airborne vehicle (nominal %.2f Hz, mission time)",
-                 streamer.frames_sent, streamer.frame_rate_hz(), camera_hz)
-        log.info("cameras: rendering %.1f s wall (%.1f s CPU), publishing %.1f s wall", streamer.render_wall_s,
-                 streamer.render_cpu_s, streamer.publish_wall_s)
+        log.info("cameras %s", streamer.summary())
     return 0
 
 

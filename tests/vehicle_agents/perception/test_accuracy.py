@@ -18,20 +18,12 @@ import pytest
 
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import RenderedFrame, render_frame
-from mock_autopilot.camera.truth import median_distance_to_shore_m, truth_reference
+from mock_autopilot.camera.truth import ACCURACY_FLOODS, median_distance_to_shore_m, truth_reference
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
 
-TABLES = {
-    "circle": {"model": "circle"},
-    "ellipse": {"model": "ellipse", "orientation_deg": 20.0},
-    "nonconvex": {"model": "nonconvex", "phase_rad": 0.7},
-    "drift": {"model": "drift", "shape": "circle", "velocity_en_mps": [0.12, 0.09]},
-    "terrain": {"model": "terrain", "level_start_m": 1.0, "level_end_m": 2.0, "terrain_size_m": 120.0, "cell_m": 0.5,
-                "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
-}
 FRAMES_PER_MODEL = 200
 
 
@@ -97,9 +89,9 @@ def evaluate(flood: FloodModel, camera: CameraModel, altitude_m: float, n: int, 
     }
 
 
-@pytest.mark.parametrize("model", sorted(TABLES))
+@pytest.mark.parametrize("model", sorted(ACCURACY_FLOODS))
 def test_accuracy_at_10_m_on_the_default_camera(model: str) -> None:
-    flood = flood_model_from_config(TABLES[model], seed=3)
+    flood = flood_model_from_config(ACCURACY_FLOODS[model], seed=3)
     stats = evaluate(flood, CameraModel(), 10.0, FRAMES_PER_MODEL, seed=11)
     assert len(stats["midpoint"]) >= FRAMES_PER_MODEL // 2, "most poses must see the edge"
     assert float(stats["pooled_iou"]) >= 0.97
@@ -117,7 +109,7 @@ def test_accuracy_at_10_m_on_the_default_camera(model: str) -> None:
 @pytest.mark.parametrize(("altitude_m", "camera"), [(5.0, CameraModel()), (25.0, CameraModel()),
                                                     (10.0, CameraModel(160, 120, 70.0))])
 def test_accuracy_at_other_heights_and_a_4_3_camera(altitude_m: float, camera: CameraModel) -> None:
-    flood = flood_model_from_config(TABLES["nonconvex"], seed=3)
+    flood = flood_model_from_config(ACCURACY_FLOODS["nonconvex"], seed=3)
     stats = evaluate(flood, camera, altitude_m, 80, seed=12)
     assert float(stats["pooled_iou"]) >= 0.97
     gsd = camera.ground_sample_m(altitude_m)
@@ -128,7 +120,7 @@ def test_accuracy_at_other_heights_and_a_4_3_camera(altitude_m: float, camera: C
 def test_offsets_are_world_east_north_at_any_yaw() -> None:
     """The footprint turns with the drone, so each yaw sees a slightly different patch; each measurement must match
     that patch's truth in east/north, and the shore's normal is the same physical direction."""
-    flood = flood_model_from_config(TABLES["circle"])
+    flood = flood_model_from_config(ACCURACY_FLOODS["circle"])
     camera = CameraModel()
     normals = []
     for yaw_deg in (0.0, 37.0, 90.0, 200.0, -120.0):
@@ -145,7 +137,7 @@ def test_offsets_are_world_east_north_at_any_yaw() -> None:
 
 
 def test_algorithm_1_flags_only_land_and_only_water() -> None:
-    flood = flood_model_from_config(TABLES["circle"])
+    flood = flood_model_from_config(ACCURACY_FLOODS["circle"])
     over_land = perceive(render_frame(flood, 0.0, (30.0, 0.0, 10.0), 0.0, CameraModel(), 1).image_bgr, 10.0, 60.0)
     over_water = perceive(render_frame(flood, 0.0, (0.0, 0.0, 10.0), 0.0, CameraModel(), 1).image_bgr, 10.0, 60.0)
     assert over_land.only_land and not over_land.only_water and not over_land.has_edge
