@@ -91,6 +91,9 @@ class VehicleConfig:
     params: Mapping[str, float] = field(default_factory=dict)
     initial_yaw_rad: float = 0.0
     wind_ned_mps: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    response_time_s: float = 0.3
+    """First-order time constant of the velocity loop [s] (the plant, not a PX4 parameter): the same
+    ``kinematics.response_time_s`` the lockstep kinematics read."""
     stream_profile: str = DEFAULT_PROFILE
     system_id: int | None = None
 
