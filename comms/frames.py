@@ -15,21 +15,13 @@ local/global reference, so a position computed here agrees with a real PX4's to 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mission_plan.home import GeodeticHome
+
 EARTH_RADIUS_M = 6_371_000.0
-
-
-@dataclass(frozen=True)
-class GeodeticHome:
-    """Origin of the mission ENU frame [deg, deg, m AMSL]."""
-
-    lat_deg: float = 47.397742
-    lon_deg: float = 8.545594
-    alt_m: float = 488.0
 
 
 def enu_to_ned(vector_enu: ArrayLike) -> NDArray[np.float64]:

@@ -18,17 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-
-@dataclass(frozen=True)
-class KinematicLimits:
-    """PX4 velocity-controller limits [m/s, m/s, m/s, m/s²] and the first-order response time [s]."""
-
-    max_xy_speed_mps: float = 12.0
-    max_climb_speed_mps: float = 3.0
-    max_descent_speed_mps: float = 1.5
-    max_xy_accel_mps2: float = 3.0
-    max_z_accel_mps2: float = 4.0
-    response_time_s: float = 0.3
+from mission_plan.dynamics import KinematicLimits
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from mission_plan.unknown_keys import first_unknown, unknown_key_message
 from mock_autopilot.world.drift import DriftingFlood
 from mock_autopilot.world.ellipse import GrowingEllipse
 from mock_autopilot.world.flood_model import ExpandingCircle, FloodModel
@@ -98,9 +99,11 @@ class _Fields:
         return value
 
     def reject_unknown(self) -> None:
-        unknown = sorted(set(self.table) - self.used)
-        if unknown:
-            raise FloodConfigError(f"{self.name(unknown[0])}: unknown key for model {self.table.get('model')!r}")
+        """A key the model never read is a typo or belongs to another model: name it and the closest key it reads."""
+        unknown = first_unknown(self.table, self.used)
+        if unknown is not None:
+            raise FloodConfigError(unknown_key_message(
+                self.prefix, unknown, self.used, what=f"unknown key for model {self.table.get('model')!r}"))
 
     def growth(self, start_key: str, end_key: str, start: float, end: float) -> None:
         if end < start:

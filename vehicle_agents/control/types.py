@@ -11,10 +11,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-ROLE_BOUNDARY = "boundary"
-ROLE_LEADER = "leader"
-ROLE_FOLLOWER = "follower"
-ROLES = (ROLE_BOUNDARY, ROLE_LEADER, ROLE_FOLLOWER)
+from mission_plan.roles import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER, ROLES
+
+__all__ = ["ROLES", "ROLE_BOUNDARY", "ROLE_FOLLOWER", "ROLE_LEADER", "NeighbourInfo", "OwnState", "VelocityCommand"]
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
-from gcs.scenario import load_scenario
+from gcs.scenario import SCENARIO_DIR, load_scenario
 from mock_autopilot.world.config import FloodConfigError, flood_model_from_config
 from mock_autopilot.world.drift import DriftingFlood
 from mock_autopilot.world.ellipse import GrowingEllipse
@@ -17,7 +17,7 @@ from mock_autopilot.world.flood_model import ExpandingCircle
 from mock_autopilot.world.nonconvex import NonConvexFlood
 from mock_autopilot.world.terrain import TerrainFlood
 
-SCENARIOS = Path(__file__).resolve().parents[3] / "gcs" / "scenarios"
+SCENARIOS = SCENARIO_DIR
 
 
 @pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.toml")), ids=lambda p: p.stem)

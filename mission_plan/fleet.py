@@ -1,0 +1,122 @@
+"""Who flies and where each vehicle stands: the ``[fleet]`` table turned into vehicles with launch pads.
+
+Pads (SPEC §4): all vehicles start from one launch site, pads ``pad_spacing_m`` apart. The boundary drones stand in
+a column along the edge tangent through the launch point, group A on the counter-clockwise side (rank 0 furthest,
+it leads), group B on the clockwise side; the leader and the followers stand in columns behind them, away from
+the flood, the leader in the middle of the first column (nearest the line it will fly in on).
+
+This is plan, not resolution: given the launch site and the flood's centre it is pure geometry. Only
+``launch_en_m = "auto"`` needs the flood model; the ground station fills it in first (``gcs.scenario``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from mission_plan.roles import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER
+from mission_plan.roster import RosterEntry
+from mission_plan.table_fields import ScenarioError, integer, number, pair, reject_unknown
+
+FLEET_KEYS = frozenset({"boundary_per_group", "leaders", "follower_layers", "pad_spacing_m", "launch_en_m",
+                        "flood_center_en_m", "gps", "launch_bearing_deg", "launch_clearance_m"})
+GPS_CHOICES = ("leader", "all", "none")
+AUTO_LAUNCH = "auto"
+"""``launch_en_m = "auto"``: the launch site just outside the flood's initial edge (resolved by the ground station)."""
+
+
+@dataclass(frozen=True)
+class VehicleSpec:
+    """One vehicle: id (1-based, also its MAVLink system id), role, roster extras, GPS, pad [m; mission E, N, U]."""
+
+    vehicle_id: int
+    role: str
+    pad_enu_m: tuple[float, float, float]
+    has_gps: bool
+    group: str | None = None
+    rank: int = 0
+    layer: int = 0
+    ref_id: int | None = None
+
+    def roster_entry(self) -> RosterEntry:
+        """What every other drone knows of this one."""
+        return RosterEntry(self.vehicle_id, self.role, self.group, self.rank, self.layer, self.ref_id, self.has_gps)
+
+
+def check_fleet_keys(fleet: Mapping[str, Any]) -> None:
+    """Reject unknown ``[fleet]`` keys (before anything reads the table, so a typo never reaches the flood model)."""
+    reject_unknown(fleet, FLEET_KEYS, "fleet")
+
+
+def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
+    """Vehicles and pads from a ``[fleet]`` table (see module doc); ids are 1-based in the order A, B, leaders, followers.
+
+    ``launch_en_m`` must be a pair here; ``"auto"`` raises (the ground station resolves it with the flood model).
+    """
+    check_fleet_keys(fleet)
+    if fleet.get("launch_en_m") == AUTO_LAUNCH:
+        raise ScenarioError('fleet.launch_en_m: "auto" pads need the flood model: use a plan file '
+                            "(python -m gcs.plan SCENARIO --out DIR writes them)")
+    per_group = integer(fleet, "boundary_per_group", 4, "fleet", minimum=1)
+    leaders = integer(fleet, "leaders", 1, "fleet")
+    layers_raw = fleet.get("follower_layers", [4])
+    if not isinstance(layers_raw, list) or not all(isinstance(n, int) and not isinstance(n, bool) and n >= 1 for n in layers_raw):
+        raise ScenarioError(f"fleet.follower_layers: must be a list of positive integers, got {layers_raw!r}")
+    if layers_raw and leaders < 1:
+        raise ScenarioError("fleet.leaders: followers need a leader (eq 10 targets lie on the leader's segments)")
+    spacing = number(fleet, "pad_spacing_m", 1.5, "fleet", positive=True)
+    launch = pair(fleet, "launch_en_m", (14.0, 0.0), "fleet")
+    centre = pair(fleet, "flood_center_en_m", (0.0, 0.0), "fleet")
+    gps = fleet.get("gps", "leader")
+    if gps not in GPS_CHOICES:
+        raise ScenarioError(f"fleet.gps: must be leader, all or none, got {gps!r}")
+    number(fleet, "launch_bearing_deg", 0.0, "fleet")
+    number(fleet, "launch_clearance_m", 2.0, "fleet", non_negative=True)
+    rx, ry = launch[0] - centre[0], launch[1] - centre[1]
+    norm = math.hypot(rx, ry)
+    if norm < 1e-6:
+        raise ScenarioError("fleet.launch_en_m: the launch site must not be the flood centre")
+    radial = (rx / norm, ry / norm)
+    tangent = (-radial[1], radial[0])
+
+    def pad(column: int, along: float) -> tuple[float, float, float]:
+        return (launch[0] + radial[0] * spacing * column + tangent[0] * along,
+                launch[1] + radial[1] * spacing * column + tangent[1] * along, 0.0)
+
+    vehicles: list[VehicleSpec] = []
+    next_id = 1
+    for group, sign in (("A", 1.0), ("B", -1.0)):
+        for rank in range(per_group):
+            vehicles.append(VehicleSpec(next_id, ROLE_BOUNDARY, pad(0, sign * spacing * (per_group - rank - 0.5)),
+                                        gps == "all", group=group, rank=rank))
+            next_id += 1
+    boundary_a = [v for v in vehicles if v.group == "A"]
+    boundary_b = [v for v in vehicles if v.group == "B"]
+    ring = [*sorted(boundary_b, key=lambda v: v.rank), *sorted(boundary_a, key=lambda v: -v.rank)]
+    column_len = 2 * per_group
+    inner_count = leaders + sum(layers_raw)
+    inner_slots = sorted(
+        ((1 + k // column_len, spacing * ((k % column_len) - (column_len - 1) / 2.0))
+         for k in range(inner_count + column_len)),
+        key=lambda slot: (slot[0], abs(slot[1]), slot[1]),
+    )[:inner_count]
+    slot = 0
+    for _ in range(leaders):
+        vehicles.append(VehicleSpec(next_id, ROLE_LEADER, pad(*inner_slots[slot]), gps in ("leader", "all")))
+        next_id += 1
+        slot += 1
+    outer_ids = [v.vehicle_id for v in ring]
+    for layer, count in enumerate(layers_raw, start=1):
+        n = len(outer_ids) / count
+        ids = []
+        for j in range(count):
+            ref = outer_ids[min(len(outer_ids) - 1, int(round(n * (j + 1))) - 1)] if layer == 1 else outer_ids[int(j * n)]
+            vehicles.append(VehicleSpec(next_id, ROLE_FOLLOWER, pad(*inner_slots[slot]), gps == "all",
+                                        layer=layer, ref_id=ref))
+            ids.append(next_id)
+            next_id += 1
+            slot += 1
+        outer_ids = ids
+    return tuple(vehicles)

@@ -1,0 +1,179 @@
+"""A whole mission setup as one frozen :class:`Scenario`, validated from its parsed TOML table.
+
+A scenario says where the mission is (``[home]``), what floods (``[flood]``, validated by the world's
+``flood_model_from_config``), who flies (``[fleet]``, :mod:`mission_plan.fleet`), the camera (``[camera]``), the
+radio (``[radio]``), the vehicle limits (``[kinematics]``) and the control parameters (``[control]``, with
+``[control.paper]``/``[control.improved]``, :mod:`mission_plan.control_params`). Any error raises
+:class:`~mission_plan.table_fields.ScenarioError` whose one-line message names the field; an unknown key in any
+table but ``[flood]`` names the closest known key here (the flood's own keys are checked with the flood model).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+from mission_plan.control_params import ControlParams, ControlParamsError, params_for_mode
+from mission_plan.dynamics import KinematicLimits
+from mission_plan.fleet import AUTO_LAUNCH, VehicleSpec, build_fleet, check_fleet_keys
+from mission_plan.home import GeodeticHome
+from mission_plan.roster import RosterEntry
+from mission_plan.scenarios import SCENARIO_DIR
+from mission_plan.table_fields import ScenarioError, integer, number, reject_unknown, sub_table
+
+LaunchResolver = Callable[[Mapping[str, Any], Mapping[str, Any], int, Path], dict[str, Any]]
+"""``(fleet, flood, seed, source_dir) -> fleet`` with ``launch_en_m`` filled in: how "auto" pads are resolved."""
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """Downward camera: image size [px], field of view [deg] and frame rate [Hz of mission time].
+
+    The frame rate is the camera's own, slower than the control loop as on a real drone: between frames the control
+    law runs on the newest frame it has (both engines).
+    """
+
+    width_px: int = 128
+    height_px: int = 128
+    fov_deg: float = 60.0
+    rate_hz: float = 10.0
+
+
+@dataclass(frozen=True)
+class RadioSpec:
+    """Swarm radio: range [m], loss probability, latency and jitter [s]."""
+
+    range_m: float = 25.0
+    loss: float = 0.0
+    latency_s: float = 0.0
+    jitter_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A whole mission setup. ``flood`` and ``control`` stay tables (their owners validate them).
+
+    ``source_dir`` is the folder of the scenario file: relative paths in it (a DEM image) are resolved there.
+    """
+
+    name: str
+    seed: int
+    duration_s: float
+    altitude_m: float
+    home: GeodeticHome
+    flood: Mapping[str, Any]
+    vehicles: tuple[VehicleSpec, ...]
+    camera: CameraSpec
+    radio: RadioSpec
+    kinematics: KinematicLimits
+    control: Mapping[str, Any]
+    control_rate_hz: float = 20.0
+    polygon_period_s: float = 1.0
+    source_dir: Path = field(default=SCENARIO_DIR)
+
+    def roster(self) -> tuple[RosterEntry, ...]:
+        """Every vehicle as the others know it."""
+        return tuple(v.roster_entry() for v in self.vehicles)
+
+    def control_params(self, mode: str) -> ControlParams:
+        """The control parameters of ``mode`` ("paper" or "improved") for every vehicle of this scenario."""
+        try:
+            return params_for_mode(
+                mode, self.control, self.roster(), nominal_altitude_m=self.altitude_m, fov_deg=self.camera.fov_deg
+            )
+        except ControlParamsError as exc:
+            raise ScenarioError(str(exc)) from None
+
+
+TOP_KEYS = frozenset({"name", "description", "seed", "duration_s", "altitude_m", "control_rate_hz",
+                      "polygon_period_s", "home", "flood", "fleet", "camera", "radio", "kinematics", "control"})
+_HOME_KEYS = frozenset(f.name for f in fields(GeodeticHome))
+_CAMERA_KEYS = frozenset(f.name for f in fields(CameraSpec))
+_RADIO_KEYS = frozenset(f.name for f in fields(RadioSpec))
+_KINEMATICS_KEYS = frozenset(f.name for f in fields(KinematicLimits))
+
+
+def check_keys(raw: Mapping[str, Any]) -> None:
+    """Reject the first unknown key of the top level and of every table this package owns (not ``[flood]``)."""
+    reject_unknown(raw, TOP_KEYS, "")
+    for key, known in (("home", _HOME_KEYS), ("camera", _CAMERA_KEYS), ("radio", _RADIO_KEYS),
+                       ("kinematics", _KINEMATICS_KEYS)):
+        reject_unknown(sub_table(raw, key), known, key)
+    check_fleet_keys(sub_table(raw, "fleet"))
+
+
+def _home(table: Mapping[str, Any]) -> GeodeticHome:
+    return GeodeticHome(
+        lat_deg=number(table, "lat_deg", GeodeticHome.lat_deg, "home", minimum=-90.0, maximum=90.0),
+        lon_deg=number(table, "lon_deg", GeodeticHome.lon_deg, "home", minimum=-180.0, maximum=180.0),
+        alt_m=number(table, "alt_m", GeodeticHome.alt_m, "home"),
+    )
+
+
+def _camera(table: Mapping[str, Any]) -> CameraSpec:
+    return CameraSpec(
+        width_px=integer(table, "width_px", CameraSpec.width_px, "camera", minimum=8),
+        height_px=integer(table, "height_px", CameraSpec.height_px, "camera", minimum=8),
+        fov_deg=number(table, "fov_deg", CameraSpec.fov_deg, "camera", positive=True, maximum=170.0),
+        rate_hz=number(table, "rate_hz", CameraSpec.rate_hz, "camera", positive=True, maximum=1000.0),
+    )
+
+
+def _radio(table: Mapping[str, Any]) -> RadioSpec:
+    return RadioSpec(
+        range_m=number(table, "range_m", RadioSpec.range_m, "radio", non_negative=True),
+        loss=number(table, "loss", RadioSpec.loss, "radio", non_negative=True, maximum=1.0),
+        latency_s=number(table, "latency_s", RadioSpec.latency_s, "radio", non_negative=True),
+        jitter_s=number(table, "jitter_s", RadioSpec.jitter_s, "radio", non_negative=True),
+    )
+
+
+def _kinematics(table: Mapping[str, Any]) -> KinematicLimits:
+    return KinematicLimits(**{
+        key: number(table, key, getattr(KinematicLimits, key), "kinematics", positive=True)
+        for key in _KINEMATICS_KEYS
+    })
+
+
+def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", source_dir: Path = SCENARIO_DIR,
+                        resolve_launch: LaunchResolver | None = None) -> Scenario:
+    """Validate a parsed scenario table (see module doc) into a :class:`Scenario`.
+
+    ``resolve_launch`` fills in ``launch_en_m = "auto"`` (it needs the flood model, which this leaf package does
+    not have); without it an "auto" scenario raises a :class:`ScenarioError` that says to use a plan file.
+    """
+    check_keys(raw)
+    name = raw.get("name", default_name)
+    if not isinstance(name, str) or not name:
+        raise ScenarioError(f"name: must be a non-empty string, got {name!r}")
+    description = raw.get("description", "")
+    if not isinstance(description, str):
+        raise ScenarioError(f"description: must be a string, got {description!r}")
+    seed = integer(raw, "seed", 1, "")
+    flood = sub_table(raw, "flood")
+    if "model" not in flood:
+        raise ScenarioError("flood.model: missing (circle, ellipse, nonconvex, drift or terrain)")
+    fleet = sub_table(raw, "fleet")
+    if fleet.get("launch_en_m") == AUTO_LAUNCH and resolve_launch is not None:
+        fleet = resolve_launch(fleet, flood, seed, source_dir)
+    scenario = Scenario(
+        name=name,
+        seed=seed,
+        duration_s=number(raw, "duration_s", 60.0, "", positive=True),
+        altitude_m=number(raw, "altitude_m", 10.0, "", positive=True),
+        home=_home(sub_table(raw, "home")),
+        flood=flood,
+        vehicles=build_fleet(fleet),
+        camera=_camera(sub_table(raw, "camera")),
+        radio=_radio(sub_table(raw, "radio")),
+        kinematics=_kinematics(sub_table(raw, "kinematics")),
+        control=sub_table(raw, "control"),
+        control_rate_hz=number(raw, "control_rate_hz", 20.0, "", positive=True, maximum=1000.0),
+        polygon_period_s=number(raw, "polygon_period_s", 1.0, "", positive=True),
+        source_dir=source_dir,
+    )
+    for mode in ("paper", "improved"):
+        scenario.control_params(mode)
+    return scenario
