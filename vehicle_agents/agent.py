@@ -1,10 +1,10 @@
-"""One drone's onboard computer: the loop that ties autopilot, camera, radio and control law together.
+"""One drone's onboard computer: the asyncio shell around the onboard core, over MAVSDK (or pymavlink) and Zenoh.
 
-Every control period (20 Hz of mission time by default) it reads the newest telemetry, camera frame, neighbour
-messages and ground-station command, lets :func:`vehicle_agents.flight_phase.next_phase` decide what to do, and
-does it: arm, take off, start OFFBOARD, hover, or run the control law of its role (``vehicle_agents.control``, the
-same code the lockstep engine runs) and stream the velocity setpoint. It publishes its state every period and
-exits on a stop, after landing, or when its autopilot falls silent (exit code 3).
+Every control period (20 Hz of mission time by default) it gathers the newest telemetry, the perception result of
+the newest camera frame, the radio inbox and the ground station's order, calls the pure onboard core with N = 1
+(:func:`vehicle_agents.core.onboard.onboard_step`, the same call the lockstep engine makes for the whole fleet), and
+does what the core decided: arm, take off, start OFFBOARD, hover or stream the control law's velocity setpoint, and
+broadcast the state message. It exits on a stop, after landing, or when its autopilot falls silent (exit code 3).
 """
 
 from __future__ import annotations
@@ -20,11 +20,10 @@ import numpy as np
 from comms.messages import CameraFrame, MissionCommand
 from vehicle_agents.autopilot_link import AutopilotLink, AutopilotLinkError
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.memory import ControlMemory
-from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
-from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
+from vehicle_agents.core.onboard import GroundOrder, OnboardInputs, OnboardPlan, initial_state, onboard_step
+from vehicle_agents.core.telemetry import telemetry_batch
+from vehicle_agents.flight_phase import Action, Command, Phase, PhaseLimits
 from vehicle_agents.mission_clock import MissionClock
-from vehicle_agents.onboard_view import neighbour_infos, own_state, state_message, velocity_ned
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import perceive
 from vehicle_agents.swarm_port import SwarmPort
@@ -92,11 +91,11 @@ class Agent:
         self.swarm = swarm
         self.clock = MissionClock(config.speed)
         self.stats = AgentStats()
-        self.phase = Phase.CONNECTING
-        self._memory: ControlMemory = initial_memory(config.role, config.vehicle_id, config.params)
+        self.plan = OnboardPlan(vehicle_ids=(config.vehicle_id,), roles=(config.role,), pads_en_m=(config.pad_enu_m,),
+                                has_gps=(config.has_gps,), params=config.params, limits=config.limits)
+        self.state = initial_state(self.plan)
         self._perception: PerceptionResult | None = None
         self._frame_seq = -1
-        self._seq = 0
         self._flood_clock_start_s: float | None = None
         self._command_seq = -1
         self._command: Command | None = None
@@ -104,6 +103,11 @@ class Agent:
         self._retry_after_s: dict[Action, float] = {}
         self._last_setpoint: tuple[tuple[float, float, float], float] | None = None
         self._stop_requested = False
+
+    @property
+    def phase(self) -> Phase:
+        """The flight phase the core is in."""
+        return self.state.phases[0]
 
     def request_stop(self) -> None:
         """SIGTERM/SIGINT: leave the loop at the next period and close everything."""
@@ -128,27 +132,41 @@ class Agent:
         next_tick_s = time.monotonic()
         exit_code = EXIT_OK
         while True:
-            self._read_command()
-            command = Command.STOP if self._stop_requested else self._command
-            now_wall_s = time.monotonic()
-            command_age_s = None if self._command_wall_s is None else now_wall_s - self._command_wall_s
-            phase, action = next_phase(self.phase, PhaseInputs(self.link.telemetry, now_wall_s, command, command_age_s),
-                                       cfg.limits)
-            if phase is not self.phase:
-                log.info("vehicle %d: %s -> %s%s", cfg.vehicle_id, self.phase.value, phase.value,
-                         " (ground station silent)" if phase is Phase.HOLDING and command is not Command.HOLD else "")
-                self._on_transition(self.phase, phase)
-                self.phase = phase
+            started = time.monotonic()
+            order = self._read_order(started)
+            self._update_perception()
+            inputs = OnboardInputs(
+                t_s=self.clock.now_s(),
+                telemetry=telemetry_batch([self.link.telemetry], started),
+                perception=(self._perception,),
+                inbox=(self.swarm.take_inbox(),),
+                orders=(order,),
+                stop=(self._stop_requested,),
+            )
+            old_phase = self.phase
+            outputs, self.state = onboard_step(self.plan, self.state, inputs)
+            action = outputs.actions[0]
+            if self.phase is not old_phase:
+                log.info("vehicle %d: %s -> %s%s", cfg.vehicle_id, old_phase.value, self.phase.value,
+                         " (ground station silent)" if self.phase is Phase.HOLDING and order.command is not Command.HOLD
+                         else "")
+                self._on_transition(old_phase, self.phase)
+            message = outputs.state_messages[0]
             if action is Action.EXIT:
-                if phase is Phase.LINK_LOST:
+                if self.phase is Phase.LINK_LOST:
                     log.error("vehicle %d: autopilot silent for %.1f s (vehicle lost); leaving the swarm",
                               cfg.vehicle_id, cfg.limits.link_timeout_s)
                     exit_code = EXIT_LINK_LOST
-                self._publish_state(leaving=True)
+                if message is not None:
+                    self.swarm.publish_state(message)
                 break
-            started = time.monotonic()
-            await self._execute(action)
-            self._publish_state(leaving=False)
+            velocity = outputs.velocity_setpoint_ned_mps[0]
+            await self._execute(action, (float(velocity[0]), float(velocity[1]), float(velocity[2])),
+                                float(outputs.yaw_ned_rad[0]))
+            if message is not None:
+                self.swarm.publish_state(message)
+            if action is Action.FLY:
+                self.stats.control_steps += 1
             if self.phase is Phase.MISSION:
                 self.stats.step_wall_s.append(time.monotonic() - started)
             next_tick_s += period_wall_s
@@ -168,21 +186,22 @@ class Agent:
         if old is Phase.MISSION:
             self.stats.mission_wall_end_s = time.monotonic()
 
-    def _read_command(self) -> None:
+    def _read_order(self, now_wall_s: float) -> GroundOrder:
+        """The ground station's newest order addressed to this vehicle, aged on the wall clock."""
         msg: MissionCommand | None = self.swarm.latest_command()
-        if msg is None or msg.seq == self._command_seq:
-            return
-        self._command_seq = msg.seq
-        self._command_wall_s = time.monotonic()
-        self.clock.observe(msg.t_s)
-        if msg.target_ids and self.config.vehicle_id not in msg.target_ids:
-            return
-        if msg.flood_clock_start_t_s is not None:
-            self._flood_clock_start_s = msg.flood_clock_start_t_s
-        if msg.command in _COMMANDS:
-            self._command = _COMMANDS[msg.command]
+        if msg is not None and msg.seq != self._command_seq:
+            self._command_seq = msg.seq
+            self._command_wall_s = now_wall_s
+            self.clock.observe(msg.t_s)
+            if not msg.target_ids or self.config.vehicle_id in msg.target_ids:
+                if msg.flood_clock_start_t_s is not None:
+                    self._flood_clock_start_s = msg.flood_clock_start_t_s
+                if msg.command in _COMMANDS:
+                    self._command = _COMMANDS[msg.command]
+        age_s = None if self._command_wall_s is None else now_wall_s - self._command_wall_s
+        return GroundOrder(self._command, age_s, self._flood_clock_start_s)
 
-    async def _execute(self, action: Action) -> None:
+    async def _execute(self, action: Action, velocity_ned_mps: tuple[float, float, float], yaw_ned_rad: float) -> None:
         now_s = time.monotonic()
         if action in (Action.ARM, Action.TAKEOFF, Action.START_OFFBOARD, Action.HOLD, Action.LAND):
             if now_s < self._retry_after_s.get(action, 0.0):
@@ -195,10 +214,8 @@ class Agent:
                 await self.link.takeoff(self.config.limits.takeoff_altitude_m)
             elif action is Action.START_OFFBOARD:
                 await self.link.start_offboard((0.0, 0.0, 0.0), 0.0)
-            elif action is Action.HOVER:
-                await self._send_setpoint((0.0, 0.0, 0.0), 0.0)
-            elif action is Action.FLY:
-                await self._fly()
+            elif action in (Action.HOVER, Action.FLY):
+                await self._send_setpoint(velocity_ned_mps, yaw_ned_rad)
             elif action is Action.HOLD:
                 await self.link.hold()
             elif action is Action.LAND:
@@ -214,6 +231,7 @@ class Agent:
             self._last_setpoint = setpoint
 
     def _update_perception(self) -> None:
+        """Perception, the pure stage before the core, on the newest camera frame (none when nothing new came)."""
         frame = self.swarm.latest_frame()
         if frame is None or frame.seq == self._frame_seq:
             return
@@ -227,42 +245,3 @@ class Agent:
             return
         self._perception = perceive(image, frame.altitude_m, frame.fov_deg, frame.yaw_ned_rad)
         self.stats.frames_processed += 1
-
-    def _flood_time_s(self) -> float:
-        start_s = self._flood_clock_start_s if self._flood_clock_start_s is not None else self.clock.now_s()
-        return max(0.0, self.clock.now_s() - start_s)
-
-    async def _fly(self) -> None:
-        cfg = self.config
-        self._update_perception()
-        own = own_state(self.link.telemetry, cfg.pad_enu_m, cfg.has_gps)
-        now_s = self.clock.now_s()
-        heard = neighbour_infos(self.swarm.neighbours(now_s), now_s, cfg.vehicle_id, set(), cfg.params.neighbour_timeout_s)
-        command, self._memory = control_step(cfg.role, self._memory, own, self._perception, heard, cfg.params,
-                                             self._flood_time_s())
-        self.stats.control_steps += 1
-        await self._send_setpoint(velocity_ned(command), float(command.yaw_ned_rad))
-
-    def _publish_state(self, leaving: bool) -> None:
-        cfg = self.config
-        tel = self.link.telemetry
-        if tel.last_message_monotonic_s == 0.0:
-            return
-        own = own_state(tel, cfg.pad_enu_m, cfg.has_gps)
-        if self.phase is not Phase.MISSION:
-            self._update_perception()
-        self._seq += 1
-        t_s = self.clock.now_s()
-        self.swarm.publish_state(
-            state_message(
-                seq=self._seq,
-                t_s=t_s,
-                broadcast=own_broadcast(self._memory, own, t_s),
-                own=own,
-                tel=tel,
-                perception=self._perception,
-                edge_points_en_m=self._memory.edge_points_en_m,
-                leaving=leaving,
-                low_battery=tel.battery_fraction < cfg.limits.low_battery_fraction,
-            )
-        )

@@ -12,6 +12,7 @@ PX4 offboard application should.
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass
 
 from vehicle_agents.autopilot_link import AutopilotTelemetry
@@ -74,7 +75,8 @@ class PhaseLimits:
 @dataclass(frozen=True)
 class PhaseInputs:
     telemetry: AutopilotTelemetry
-    now_monotonic_s: float
+    link_silence_s: float
+    """Wall seconds since the autopilot's newest message; NaN before the first."""
     command: Command | None = None
     command_age_s: float | None = None
     """Wall seconds since the last ground-station command; None before the first (no ground station yet)."""
@@ -86,7 +88,7 @@ def next_phase(phase: Phase, inputs: PhaseInputs, limits: PhaseLimits) -> tuple[
     if phase in (Phase.LINK_LOST, Phase.DONE):
         return phase, Action.EXIT
     timeout_s = limits.ground_link_timeout_s if phase is Phase.PREFLIGHT else limits.link_timeout_s
-    if phase is not Phase.CONNECTING and inputs.now_monotonic_s - tel.last_message_monotonic_s > timeout_s:
+    if phase is not Phase.CONNECTING and inputs.link_silence_s > timeout_s:
         return Phase.LINK_LOST, Action.EXIT
     if inputs.command is Command.STOP:
         return Phase.DONE, Action.EXIT
@@ -99,7 +101,7 @@ def next_phase(phase: Phase, inputs: PhaseInputs, limits: PhaseLimits) -> tuple[
         if phase is Phase.MISSION and inputs.command_age_s is not None and inputs.command_age_s > limits.gcs_link_timeout_s:
             return Phase.HOLDING, Action.HOLD
     if phase is Phase.CONNECTING:
-        return (Phase.PREFLIGHT, Action.NONE) if tel.last_message_monotonic_s > 0.0 else (phase, Action.NONE)
+        return (Phase.PREFLIGHT, Action.NONE) if not math.isnan(inputs.link_silence_s) else (phase, Action.NONE)
     if phase is Phase.PREFLIGHT:
         if tel.armed and tel.in_air:
             return Phase.TAKING_OFF, Action.NONE

@@ -48,6 +48,24 @@ def own_state(tel: AutopilotTelemetry, pad_enu_m: Sequence[float], has_gps: bool
     )
 
 
+def neighbour_info(msg: NeighbourState, age_s: float) -> NeighbourInfo:
+    """One neighbour's message as the control law reads it, ``age_s`` old (what only the wire carries, such as the
+    ring radius in ``extras``, comes through here in both engines)."""
+    ring_radius_m = msg.extras.get("ring_radius_m")
+    return NeighbourInfo(
+        vehicle_id=msg.sender_id,
+        role=msg.role,
+        position_en_m=np.array(msg.position_en_m, dtype=float),
+        velocity_en_mps=np.array(msg.velocity_en_mps, dtype=float),
+        altitude_m=msg.altitude_m,
+        age_s=age_s,
+        group=msg.group or None,
+        leading=msg.has(FLAG_LEADING),
+        encircled=msg.encircle_complete,
+        ring_radius_m=None if ring_radius_m is None else float(ring_radius_m),
+    )
+
+
 def neighbour_infos(
     messages: Iterable[NeighbourState], now_s: float, own_id: int, departed: set[int], timeout_s: float
 ) -> list[NeighbourInfo]:
@@ -57,23 +75,8 @@ def neighbour_infos(
         if msg.sender_id == own_id or msg.sender_id in departed or msg.has(FLAG_LEAVING):
             continue
         age_s = max(0.0, now_s - msg.t_s)
-        if age_s > timeout_s:
-            continue
-        ring_radius_m = msg.extras.get("ring_radius_m")
-        infos.append(
-            NeighbourInfo(
-                vehicle_id=msg.sender_id,
-                role=msg.role,
-                position_en_m=np.array(msg.position_en_m, dtype=float),
-                velocity_en_mps=np.array(msg.velocity_en_mps, dtype=float),
-                altitude_m=msg.altitude_m,
-                age_s=age_s,
-                group=msg.group or None,
-                leading=msg.has(FLAG_LEADING),
-                encircled=msg.encircle_complete,
-                ring_radius_m=None if ring_radius_m is None else float(ring_radius_m),
-            )
-        )
+        if age_s <= timeout_s:
+            infos.append(neighbour_info(msg, age_s))
     return infos
 
 

@@ -3,30 +3,29 @@
 Neighbours come through the comms team's :class:`comms.swarm_link.SwarmLink`: through the radio emulator's inbox in
 simulation (``via_radio=True``: range, loss and delay decided on true positions), or straight from every drone's
 public state key on real hardware where the radio itself limits range (``via_radio=False``). Nothing else changes.
-A :class:`comms.neighbour_table.NeighbourTable` drops neighbours whose liveliness token vanished or who went quiet
-for three broadcast periods. Camera frames and commands come through latest-value buffers, newest wins.
+What arrives is handed to the onboard core as an :class:`~vehicle_agents.core.neighbours.Inbox` (states and
+liveliness changes); the core keeps the table. Camera frames and commands come through latest-value buffers.
 """
 
 from __future__ import annotations
 
 from comms.keys import MissionKeys
 from comms.messages import CameraFrame, MissionCommand, NeighbourState, decode
-from comms.neighbour_table import NeighbourTable
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohSession
+from vehicle_agents.core.neighbours import Inbox
 
 
 class ZenohSwarmLink:
     """A :class:`~vehicle_agents.swarm_port.SwarmPort` over one Zenoh session."""
 
-    def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool, period_s: float) -> None:
+    def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool) -> None:
         self.vehicle_id = vehicle_id
         self.keys = MissionKeys(mission)
         self.session = ZenohSession(zenoh)
         self._camera = self.session.subscribe(self.keys.camera(vehicle_id))
         self._command_buf = self.session.subscribe(self.keys.command)
         self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio)
-        self.table = NeighbourTable(own_id=vehicle_id, period_s=period_s)
         self._frame: CameraFrame | None = None
         self._command: MissionCommand | None = None
 
@@ -37,9 +36,9 @@ class ZenohSwarmLink:
                 self._frame = frame
         return self._frame
 
-    def neighbours(self, now_s: float) -> list[NeighbourState]:
-        self.link.update_table(self.table, now_s)
-        return [n.state for n in self.table.neighbours()]
+    def take_inbox(self) -> Inbox:
+        update = self.link.poll()
+        return Inbox(states=update.states, departed_ids=update.dead, returned_ids=update.alive)
 
     def latest_command(self) -> MissionCommand | None:
         for item in self._command_buf.drain():

@@ -1,8 +1,8 @@
 """What the onboard loop needs from the swarm network, as one small interface.
 
 The Zenoh implementation is :class:`vehicle_agents.swarm_link_zenoh.ZenohSwarmLink` (built on the comms team's
-``SwarmLink`` and ``NeighbourTable``). Everything here is newest-value: a control step wants the latest camera
-frame, the latest message of each live neighbour and the latest ground-station command, never a backlog.
+``SwarmLink``). A control step wants the latest camera frame and the latest ground-station command, never a
+backlog; neighbour states arrive as an inbox that the onboard core files into its own table.
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Protocol
 
 from comms.messages import CameraFrame, MissionCommand, NeighbourState
+from vehicle_agents.core.neighbours import Inbox
 
 
 class SwarmPort(Protocol):
@@ -17,8 +18,9 @@ class SwarmPort(Protocol):
         """The newest camera frame of this vehicle (None before the first)."""
         ...
 
-    def neighbours(self, now_s: float) -> list[NeighbourState]:
-        """The newest message of every neighbour heard and not dead or stale at mission time ``now_s``."""
+    def take_inbox(self) -> Inbox:
+        """Every neighbour state decoded since the previous call, and whose liveliness token vanished or came back
+        (the onboard core keeps the table: newest per sender, departures, timeout)."""
         ...
 
     def latest_command(self) -> MissionCommand | None:

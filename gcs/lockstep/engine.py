@@ -1,16 +1,19 @@
-"""One simulated clock, every vehicle stepped in turn: sense, hear, decide, move (see package doc).
+"""One simulated clock, the whole fleet through the onboard core at once: sense, hear, decide, move (package doc).
 
 The flood clock starts with every vehicle hovering at the nominal altitude over its pad in OFFBOARD (SPEC §4: the
-flood clock starts when all are airborne), so take-off is not simulated here. Each control period:
+flood clock starts when all are airborne): the vehicle backend's ``hover_start`` brings them there (the px4
+backend flies the real arm, take-off and OFFBOARD sequence). Each control period:
 
-1. true positions -> each drone's own state (odometry = truth here; no drift in lockstep);
-2. every drone broadcasts its state; the radio model delivers by range, loss and latency;
-3. when a camera frame is due (``[camera] rate_hz``, slower than the control loop) every drone's frame is rendered
-   and segmented (``render_frame`` + ``perceive``); in between, each drone keeps its newest result, as an agent does;
-4. ``control_step`` of its role gives a velocity setpoint;
-5. the ground station's caged polygon is rebuilt from the boundary drones' positions and the edge points their
-   state messages carry (each ``polygon_period_s``);
-6. ``step_kinematics`` moves every vehicle (PX4-like response and limits).
+1. the backend's state becomes every drone's telemetry (odometry = truth here; GPS drones get the true fix);
+2. each receiver's inbox is what the in-memory radio delivers by now (range on true positions, loss, latency);
+3. when a camera frame is due (``[camera] rate_hz``, the grid of :mod:`mock_autopilot.camera.schedule`) every
+   drone's frame is rendered and perceived; in between, each drone keeps its newest result, as an agent does;
+4. :func:`vehicle_agents.core.onboard.onboard_step` runs for the whole fleet (N = fleet; an agent process calls the
+   same function with N = 1): flight phase, neighbour table, control law, setpoints and state messages;
+5. the state messages go on the radio, encoded once and decoded once; the ground station hears all of them and
+   rebuilds its caged polygon from them each ``polygon_period_s`` (:func:`gcs.polygon.reports.aggregate_polygon`,
+   as in the processes engine);
+6. the backend applies the setpoints and flight-phase requests and advances ``1 / control_rate_hz``.
 """
 
 from __future__ import annotations
@@ -19,28 +22,58 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.frames import enu_to_ned, local_ned_to_mission_enu, ned_to_enu
+from comms.frames import enu_to_geodetic, ned_to_enu
+from comms.messages import NeighbourState
 from comms.radio_model import RadioModel
-from gcs.lockstep.radio_link import RadioLink
+from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
-from gcs.polygon.caged import caged_polygon
+from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.scenario import Scenario
+from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleBackend, VehicleRequest
+from mock_autopilot.backends.kinematic import KinematicBackend
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
-from mock_autopilot.kinematics import KinematicState, step_kinematics
+from mock_autopilot.camera.schedule import frame_due, next_frame_due_s
+from mock_autopilot.dynamics_params import px4_params
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
-from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
-from vehicle_agents.control.types import ROLE_BOUNDARY, OwnState
-from vehicle_agents.onboard_view import EDGE_POINTS_PER_MESSAGE
+from vehicle_agents.control.types import ROLE_BOUNDARY
+from vehicle_agents.core.onboard import (
+    SETPOINT_ACTIONS,
+    GroundOrder,
+    OnboardInputs,
+    OnboardPlan,
+    initial_state,
+    onboard_step,
+)
+from vehicle_agents.core.telemetry import TelemetryBatch
+from vehicle_agents.flight_phase import Action, Command, Phase, PhaseLimits
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import perceive
+
+
+class BackendKind(Enum):
+    """Which vehicle dynamics a lockstep run flies (``--backend``)."""
+
+    KINEMATIC = "kinematic"
+    """The paper's holonomic point with PX4's limits and first-order response (fast)."""
+    PX4 = "px4"
+    """The sans-IO mock PX4 itself: MAVLink setpoints and commands, commander modes and failsafes."""
+
+
+_REQUESTS = {
+    Action.ARM: VehicleRequest.ARM,
+    Action.TAKEOFF: VehicleRequest.TAKEOFF,
+    Action.START_OFFBOARD: VehicleRequest.START_OFFBOARD,
+    Action.HOLD: VehicleRequest.HOLD,
+    Action.LAND: VehicleRequest.LAND,
+}
 
 
 @dataclass
@@ -57,15 +90,49 @@ class LockstepResult:
     frames: int
     radio_heard: int
     radio_lost: int
+    radio_bytes: int = 0
+    """State-message bytes put on the air (each broadcast once)."""
 
 
-def reported_edge_points(points_en_m: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The edge points a boundary drone's state message carries: at most ``EDGE_POINTS_PER_MESSAGE``, evenly
-    subsampled, exactly as the per-process agent sends them (so both engines feed the same polygon)."""
-    points = np.asarray(points_en_m, dtype=float).reshape(-1, 2)
-    if len(points) > EDGE_POINTS_PER_MESSAGE:
-        points = points[np.linspace(0, len(points) - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)]
-    return points
+def make_backend(kind: BackendKind, scenario: Scenario) -> VehicleBackend:
+    """The scenario's vehicles on the chosen backend; both read the scenario's ``[kinematics]`` (response time too)."""
+    limits = scenario.kinematics
+    if kind is BackendKind.PX4:
+        from mock_autopilot.backends.px4 import Px4Backend
+        from mock_autopilot.vehicle import VehicleConfig
+
+        params = px4_params(limits, scenario.altitude_m)
+        return Px4Backend([
+            VehicleConfig(instance=i, has_gps=v.has_gps, pad_enu_m=v.pad_enu_m, home=scenario.home, params=params,
+                          system_id=v.vehicle_id, response_time_s=limits.response_time_s)
+            for i, v in enumerate(scenario.vehicles)
+        ])
+    return KinematicBackend(limits, len(scenario.vehicles))
+
+
+def telemetry_of(state: BackendState, positions_enu_m: NDArray[np.float64], gps: NDArray[np.bool_],
+                 scenario: Scenario) -> TelemetryBatch:
+    """What each drone's autopilot reports: the backend's state, modes in MAVSDK's spelling, a GPS fix where fitted."""
+    n = state.vehicle_count
+    lat = np.full(n, math.nan)
+    lon = np.full(n, math.nan)
+    if np.any(gps):
+        fix = enu_to_geodetic(positions_enu_m[gps], scenario.home)
+        lat[gps], lon[gps] = fix[:, 0], fix[:, 1]
+    return TelemetryBatch(
+        position_ned_m=state.position_ned_m,
+        velocity_ned_mps=state.velocity_ned_mps,
+        yaw_ned_rad=state.yaw_ned_rad,
+        armed=state.armed,
+        in_air=state.in_air,
+        flight_mode=tuple(MAVSDK_MODE_NAMES.get(mode, mode) for mode in state.flight_mode),
+        battery_fraction=state.battery_fraction,
+        ready_to_arm=np.ones(n, dtype=bool),
+        has_global_position=gps & state.alive,
+        latitude_deg=lat,
+        longitude_deg=lon,
+        link_silence_s=np.where(state.alive, 0.0, math.inf),
+    )
 
 
 def _perception_for(
@@ -83,12 +150,13 @@ def run_lockstep(
     control_params: ControlParams | None = None,
     progress: Callable[[float], None] | None = None,
     cameras: str = "all",
+    backend: BackendKind = BackendKind.KINEMATIC,
 ) -> LockstepResult:
     """Run ``scenario`` in ``mode`` to ``duration_s`` (default: the scenario's) and return the record.
 
-    ``cameras = "all"`` renders and segments every vehicle's camera at every frame time; ``"boundary"`` only the
-    boundary drones' (the only law that reads images, as the process engine's simulator bridge streams by default);
-    the others then get no perception result.
+    ``cameras = "all"`` renders and perceives every vehicle's camera at every frame time; ``"boundary"`` only the
+    boundary drones' (the only law that reads images, as the processes engine streams by default); the others then
+    get no perception result.
     """
     if cameras not in ("all", "boundary"):
         raise ValueError(f"cameras: must be all or boundary, got {cameras!r}")
@@ -101,26 +169,37 @@ def run_lockstep(
     n = len(vehicles)
     ids = [v.vehicle_id for v in vehicles]
     pads = np.array([v.pad_enu_m for v in vehicles], dtype=float)
+    gps = np.array([v.has_gps for v in vehicles], dtype=bool)
+    plan = OnboardPlan(
+        vehicle_ids=tuple(ids), roles=tuple(v.role for v in vehicles),
+        pads_en_m=tuple((float(p[0]), float(p[1])) for p in pads), has_gps=tuple(bool(g) for g in gps),
+        params=params, limits=PhaseLimits(takeoff_altitude_m=scenario.altitude_m),
+    )
+    core = initial_state(plan, Phase.MISSION)
+    orders = (GroundOrder(Command.START, 0.0, 0.0),) * n
     dt_s = 1.0 / scenario.control_rate_hz
     steps = int(math.floor(duration_s / dt_s + 1e-9))
-    radio = RadioLink(
+    radio = InMemoryRadio(
         RadioModel(scenario.radio.range_m, scenario.radio.loss, scenario.radio.latency_s, scenario.radio.jitter_s, seed),
         ids,
-        keep_s=params.neighbour_timeout_s + scenario.radio.latency_s + scenario.radio.jitter_s + dt_s,
     )
-    states = [KinematicState(position_ned_m=np.array([0.0, 0.0, -scenario.altitude_m]), velocity_ned_mps=np.zeros(3))
-              for _ in vehicles]
-    memories: list[ControlMemory] = [initial_memory(v.role, v.vehicle_id, params) for v in vehicles]
+    fleet = make_backend(backend, scenario)
+    state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
-    ring_idx = [ids.index(vid) for vid in params.ring_order() if vid in ids]
+    ring_order = params.ring_order()
+    leader_id = next((v.vehicle_id for v in vehicles if v.role == "leader" and v.has_gps), None)
+    gcs_heard: dict[int, NeighbourState] = {}
+    max_report_age_s = report_max_age_s(scenario.control_rate_hz)
 
     t_rec = np.zeros(steps + 1)
     pos_rec = np.zeros((steps + 1, n, 3))
     cmd_rec = np.zeros((steps + 1, n, 3))
     foot_rec = np.zeros((steps + 1, n))
+    alive_rec = np.ones((steps + 1, n), dtype=bool)
     polygons: list[PolygonSample] = []
     encircle_time_s: float | None = None
-    events: list[tuple[float, str]] = [(0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {n} vehicles")]
+    events: list[tuple[float, str]] = [
+        (0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {n} vehicles, backend {backend.value}")]
     next_polygon_t = 0.0
     frame_period_s = 1.0 / scenario.camera.rate_hz
     next_frame_t = 0.0
@@ -131,40 +210,40 @@ def run_lockstep(
 
     for k in range(steps + 1):
         t_s = k * dt_s
-        positions = np.array([local_ned_to_mission_enu(s.position_ned_m, pad) for s, pad in zip(states, pads)])
-        velocities = np.array([ned_to_enu(s.velocity_ned_mps) for s in states])
-        owns = [
-            OwnState(position_en_m=positions[i, :2].copy(), altitude_m=float(positions[i, 2]),
-                     velocity_en_mps=velocities[i, :2].copy(), has_gps=vehicles[i].has_gps)
-            for i in range(n)
-        ]
-        radio.broadcast(k, t_s, positions, [own_broadcast(memories[i], owns[i], t_s) for i in range(n)])
-        radio.deliver(t_s)
-        frame_due = t_s + 1e-9 >= next_frame_t
-        if frame_due:
-            next_frame_t += frame_period_s * max(1, math.floor((t_s + 1e-9 - next_frame_t) / frame_period_s) + 1)
-        commands = np.zeros((n, 3))
-        for i, vehicle in enumerate(vehicles):
-            if frame_due and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
-                perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed)
-                frames += 1
-            command, memories[i] = control_step(vehicle.role, memories[i], owns[i], perceptions[i],
-                                                radio.heard_by(i, t_s), params, t_s)
-            commands[i] = command.velocity_enu_mps
+        positions = ned_to_enu(state.position_ned_m) + np.column_stack([pads[:, :2], np.zeros(n)])
+        positions[~state.alive] = np.nan
+        inboxes = radio.deliver(t_s)
+        if frame_due(next_frame_t, t_s):
+            next_frame_t = next_frame_due_s(next_frame_t, frame_period_s, t_s)
+            for i, vehicle in enumerate(vehicles):
+                if state.alive[i] and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
+                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed)
+                    frames += 1
+        inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, positions, gps, scenario),
+                               perception=perceptions, inbox=inboxes, orders=orders)
+        outputs, core = onboard_step(plan, core, inputs)
+        for message in radio.broadcast(t_s, positions, outputs.state_messages):
+            if message is not None:
+                gcs_heard[message.sender_id] = message
+        sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool) & state.alive
+        commands_enu = ned_to_enu(outputs.velocity_setpoint_ned_mps)
+        commands_enu[~sent] = 0.0
         t_rec[k] = t_s
         pos_rec[k] = positions
-        cmd_rec[k] = commands
+        cmd_rec[k] = commands_enu
         foot_rec[k] = [camera.footprint_side_m(p[2]) for p in positions]
-        if encircle_time_s is None and any(memories[i].encircled for i in boundary_idx):
+        alive_rec[k] = state.alive
+        if encircle_time_s is None and any(core.memories[i].encircled for i in boundary_idx):
             encircle_time_s = t_s
             events.append((t_s, "encircling complete: the two groups' leading drones met"))
-        if t_s + 1e-9 >= next_polygon_t and ring_idx:
-            ring = caged_polygon(positions[ring_idx, :2],
-                                 [reported_edge_points(memories[i].edge_points_en_m) for i in ring_idx])
+        if frame_due(next_polygon_t, t_s) and ring_order:
+            offset = georeference_offset_en_m(gcs_heard.get(leader_id) if leader_id else None, scenario.home)
+            ring = aggregate_polygon(gcs_heard, ring_order, offset, t_s, max_report_age_s)
             polygons.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
             next_polygon_t += scenario.polygon_period_s
         if k < steps:
-            states = [step_kinematics(states[i], enu_to_ned(commands[i]), scenario.kinematics, dt_s) for i in range(n)]
+            requests = [_REQUESTS.get(a, VehicleRequest.NONE) for a in outputs.actions]
+            state = fleet.step(outputs.velocity_setpoint_ned_mps, outputs.yaw_ned_rad, sent, requests, dt_s)
         if progress is not None:
             progress(t_s)
 
@@ -182,10 +261,11 @@ def run_lockstep(
         positions_enu_m=pos_rec,
         commands_enu_mps=cmd_rec,
         footprint_side_m=foot_rec,
-        alive=np.ones((steps + 1, n), dtype=bool),
+        alive=alive_rec,
         polygons=polygons,
         encircle_time_s=encircle_time_s,
-        climb_events=[m.climb_events for m in memories],
+        climb_events=[m.climb_events for m in core.memories],
         events=events,
     )
-    return LockstepResult(record, flood, params, wall_s, cpu_s, steps, frames, radio.heard_total, radio.lost_total)
+    return LockstepResult(record, flood, params, wall_s, cpu_s, steps, frames, radio.heard_total, radio.lost_total,
+                          radio.bytes_sent)

@@ -1,87 +1,91 @@
-"""The radio between lockstep vehicles: who has heard what, delivered through :class:`comms.radio_model.RadioModel`.
+"""The radio between lockstep vehicles, on the wire format: each broadcast encoded once, decoded once, delivered by
+:class:`comms.radio_model.RadioModel`.
 
-Every control step each vehicle broadcasts one :class:`NeighbourInfo`; the radio model decides from TRUE positions
-which receivers hear it and when. A receiver keeps the newest message per sender (highest step index), exactly as
-the agents' neighbour table does over Zenoh; the age a control law sees is the time since the sender stamped it.
+Every control step each drone's onboard core hands over its :class:`~comms.messages.NeighbourState`; it is encoded
+as on Zenoh (MessagePack) and decoded once, and that one decoded message goes to every receiver the model lets hear
+it (range on TRUE positions, seeded loss by the message's own ``seq``, as the radio emulator draws it, latency and
+jitter), so what only travels on the wire (the ring radius in ``extras``, the subsampled edge points) reaches the
+control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
+as it does on the public state keys.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import replace
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
+from comms.messages import DecodeStats, NeighbourState, decode, encode
 from comms.radio_model import RadioModel
-from vehicle_agents.control.types import NeighbourInfo
+from vehicle_agents.core.neighbours import Inbox
 
 
-class RadioLink:
-    """Messages in flight and the newest one heard per (receiver, sender) pair (imperative shell of the model)."""
+class InMemoryRadio:
+    """Messages in flight between N vehicles (rows of the positions given to :meth:`broadcast`)."""
 
-    def __init__(self, model: RadioModel, vehicle_ids: list[int], keep_s: float) -> None:
+    def __init__(self, model: RadioModel, vehicle_ids: Sequence[int]) -> None:
         self.model = model
         self.vehicle_ids = np.asarray(vehicle_ids, dtype=np.int64)
-        n = len(vehicle_ids)
-        self.latest_seq = np.full((n, n), -1, dtype=np.int64)
-        self.keep_s = keep_s
-        self._sent: dict[int, tuple[float, list[NeighbourInfo | None]]] = {}
+        self.stats = DecodeStats()
+        self._round = 0
+        self._sent: dict[int, list[NeighbourState | None]] = {}
         self._pending_t = np.zeros(0)
         self._pending_s = np.zeros(0, dtype=np.int64)
         self._pending_r = np.zeros(0, dtype=np.int64)
         self._pending_q = np.zeros(0, dtype=np.int64)
-        self._aged_t_s = math.nan
-        self._aged: dict[tuple[int, int], NeighbourInfo] = {}
         self.heard_total = 0
         self.lost_total = 0
+        self.bytes_sent = 0
 
-    def broadcast(self, seq: int, t_s: float, positions_enu_m: NDArray[np.float64], messages: list[NeighbourInfo | None]) -> None:
-        """Everyone with a message (``None``: silent, e.g. lost vehicle) broadcasts at ``t_s``."""
-        senders = np.array([i for i, m in enumerate(messages) if m is not None], dtype=np.int64)
-        self._sent[seq] = (t_s, messages)
+    def broadcast(
+        self, t_s: float, positions_enu_m: NDArray[np.float64], messages: Sequence[NeighbourState | None]
+    ) -> list[NeighbourState | None]:
+        """Everyone with a message (None: silent) broadcasts at ``t_s``; returns the decoded messages (what a
+        listener on the public keys receives)."""
+        decoded: list[NeighbourState | None] = []
+        for message in messages:
+            if message is None:
+                decoded.append(None)
+                continue
+            payload = encode(message)
+            self.bytes_sent += len(payload)
+            decoded.append(decode(NeighbourState, payload, self.stats))
+        senders = np.array([i for i, m in enumerate(decoded) if m is not None], dtype=np.int64)
         if senders.size == 0:
-            return
-        tx = self.model.broadcast(positions_enu_m, t_s, seq, vehicle_ids=self.vehicle_ids, senders=senders)
+            return decoded
+        seqs = np.array([m.seq if m is not None else 0 for m in decoded], dtype=np.int64)
+        tx = self.model.broadcast(positions_enu_m, t_s, seqs, vehicle_ids=self.vehicle_ids, senders=senders)
         s, r, due = tx.heard()
         self.heard_total += int(s.size)
         self.lost_total += tx.lost_count
-        self._pending_t = np.concatenate([self._pending_t, due])
-        self._pending_s = np.concatenate([self._pending_s, s])
-        self._pending_r = np.concatenate([self._pending_r, r])
-        self._pending_q = np.concatenate([self._pending_q, np.full(s.shape, seq, dtype=np.int64)])
+        if s.size:
+            self._sent[self._round] = decoded
+            self._pending_t = np.concatenate([self._pending_t, due])
+            self._pending_s = np.concatenate([self._pending_s, s])
+            self._pending_r = np.concatenate([self._pending_r, r])
+            self._pending_q = np.concatenate([self._pending_q, np.full(s.shape, self._round, dtype=np.int64)])
+        self._round += 1
+        return decoded
 
-    def deliver(self, t_s: float) -> None:
-        """Hand over every message due by ``t_s`` (newest seq wins per pair) and forget old ones."""
+    def deliver(self, t_s: float) -> list[Inbox]:
+        """Each receiver's inbox: every message due by ``t_s`` (its core keeps the newest per sender)."""
+        n = len(self.vehicle_ids)
+        states: list[list[NeighbourState]] = [[] for _ in range(n)]
         due = self._pending_t <= t_s + 1e-9
         if np.any(due):
-            np.maximum.at(self.latest_seq, (self._pending_r[due], self._pending_s[due]), self._pending_q[due])
+            for rnd, sender, receiver in zip(self._pending_q[due].tolist(), self._pending_s[due].tolist(),
+                                             self._pending_r[due].tolist()):
+                message = self._sent[rnd][sender]
+                if message is not None:
+                    states[receiver].append(message)
             keep = ~due
             self._pending_t, self._pending_s = self._pending_t[keep], self._pending_s[keep]
             self._pending_r, self._pending_q = self._pending_r[keep], self._pending_q[keep]
-        for seq in [q for q, (sent_t, _) in self._sent.items() if sent_t < t_s - self.keep_s]:
-            del self._sent[seq]
+            live = set(self._pending_q.tolist())
+            for rnd in [q for q in self._sent if q not in live]:
+                del self._sent[rnd]
+        return [Inbox(states=s) if s else _EMPTY for s in states]
 
-    def heard_by(self, receiver: int, t_s: float) -> list[NeighbourInfo]:
-        """What ``receiver`` (row index) currently knows of its neighbours, each aged to ``t_s``.
 
-        A message's age depends only on when it was sent, so each (seq, sender) is aged once per ``t_s`` and the
-        same value is shared by every receiver (they are frozen).
-        """
-        if t_s != self._aged_t_s:
-            self._aged_t_s = t_s
-            self._aged = {}
-        out: list[NeighbourInfo] = []
-        row = self.latest_seq[receiver]
-        for sender in np.flatnonzero(row >= 0).tolist():
-            seq = int(row[sender])
-            aged = self._aged.get((seq, sender))
-            if aged is None:
-                sent = self._sent.get(seq)
-                if sent is None or sent[1][sender] is None:
-                    continue
-                sent_t, messages = sent
-                aged = replace(messages[sender], age_s=max(t_s - sent_t, 0.0))
-                self._aged[(seq, sender)] = aged
-            out.append(aged)
-        return out
+_EMPTY = Inbox()

@@ -45,7 +45,7 @@ from gcs.processes.host_capacity import estimate_capacity
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
 from gcs.processes.mavlink_watch import MavlinkWatcher
-from gcs.processes.polygon_feed import aggregate_polygon, georeference_offset_en_m
+from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.processes.recorder import MissionRecorder
 from gcs.processes.supervisor import Child, Supervisor
 from gcs.report import write_mission_outputs
@@ -393,7 +393,7 @@ class GroundStation:
     def _polygon(self, hub: ZenohSession, flood_t_s: float) -> None:
         leader = self.states.get(self.leader_id) if self.leader_id is not None else None
         offset = georeference_offset_en_m(leader, self.scenario.home)
-        max_age_s = 3.0 / self.scenario.control_rate_hz + 1.0
+        max_age_s = report_max_age_s(self.scenario.control_rate_hz)
         ring = aggregate_polygon(self.states, self.ring_order, offset, self.mission_t_s, max_age_s)
         truth_ring = self.flood.boundary_en_m(flood_t_s)
         if len(ring) >= 3:

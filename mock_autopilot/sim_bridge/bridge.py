@@ -26,6 +26,7 @@ from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, enc
 from comms.zenoh_session import ZenohSession
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
+from mock_autopilot.camera.schedule import frame_due, next_frame_due_s
 from mock_autopilot.world.flood_model import FloodModel
 
 MIN_CAMERA_ALTITUDE_M = 1.0
@@ -153,7 +154,7 @@ class CameraStreamer:
             airborne = sum(1 for v in vehicles if self._streams(v))
             self.airborne_vehicle_s += airborne * max(0.0, now_s - self._last_t_s)
         self._last_t_s = now_s
-        if now_s < self._next_camera_s:
+        if not frame_due(self._next_camera_s, now_s):
             return
         flood_t_s = self.flood_time_s(now_s)
         for vehicle in vehicles:
@@ -169,7 +170,7 @@ class CameraStreamer:
             self.render_wall_s += rendered - started
             self.publish_wall_s += time.perf_counter() - rendered
             self.frames_sent += 1
-        self._next_camera_s = _next_due(self._next_camera_s, self.camera_period_s, now_s)
+        self._next_camera_s = next_frame_due_s(self._next_camera_s, self.camera_period_s, now_s)
 
     def frame_rate_hz(self) -> float:
         """Achieved camera frames per airborne vehicle per mission second (nominal: 1 / camera_period_s)."""
@@ -204,7 +205,7 @@ class SimBridge:
         if now_s >= self._next_truth_s:
             self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
             self.truths_sent += 1
-            self._next_truth_s = _next_due(self._next_truth_s, self.truth_period_s, now_s)
+            self._next_truth_s = next_frame_due_s(self._next_truth_s, self.truth_period_s, now_s)
         if self.cameras is not None:
             self.cameras.stream(now_s, vehicles)
 
@@ -223,9 +224,3 @@ def vehicles_from_truth(truth: GroundTruth) -> list[VehicleTruth]:
                      float(yaws[i]), bool(alive[i]))
         for i, vid in enumerate(truth.vehicle_ids)
     ]
-
-
-def _next_due(due_s: float, period_s: float, now_s: float) -> float:
-    """The next slot of a fixed schedule; when behind, skip missed slots instead of bursting to catch up."""
-    due_s += period_s
-    return due_s if due_s > now_s else now_s + period_s

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 from vehicle_agents.autopilot_link import AutopilotTelemetry
@@ -12,7 +13,8 @@ FRESH = AutopilotTelemetry(last_message_monotonic_s=100.0, ready_to_arm=True)
 
 
 def step(phase: Phase, tel: AutopilotTelemetry, command: Command | None = None, now_s: float = 100.1) -> tuple[Phase, Action]:
-    return next_phase(phase, PhaseInputs(telemetry=tel, now_monotonic_s=now_s, command=command), LIMITS)
+    silence_s = math.nan if tel.last_message_monotonic_s == 0.0 else now_s - tel.last_message_monotonic_s
+    return next_phase(phase, PhaseInputs(telemetry=tel, link_silence_s=silence_s, command=command), LIMITS)
 
 
 def test_full_sequence_reaches_mission_only_after_start() -> None:
@@ -80,7 +82,7 @@ def test_on_the_ground_the_link_gets_more_patience() -> None:
 
 def test_silent_ground_station_makes_a_flying_agent_hold() -> None:
     flying = replace(FRESH, armed=True, in_air=True, flight_mode="OFFBOARD")
-    inputs = PhaseInputs(telemetry=flying, now_monotonic_s=100.1, command=Command.START, command_age_s=1.0)
+    inputs = PhaseInputs(telemetry=flying, link_silence_s=0.1, command=Command.START, command_age_s=1.0)
     assert next_phase(Phase.MISSION, inputs, LIMITS) == (Phase.MISSION, Action.FLY)
     silent = replace(inputs, command_age_s=6.0)
     assert next_phase(Phase.MISSION, silent, LIMITS) == (Phase.HOLDING, Action.HOLD)

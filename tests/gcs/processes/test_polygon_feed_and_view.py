@@ -11,7 +11,7 @@ from comms.frames import GeodeticHome, enu_to_geodetic
 from comms.messages import FLAG_LEAVING, NeighbourState
 from gcs.metrics.polygon_quality import polygon_iou
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
-from gcs.processes.polygon_feed import aggregate_polygon, georeference_offset_en_m
+from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m
 
 HOME = GeodeticHome()
 

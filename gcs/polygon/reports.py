@@ -1,4 +1,4 @@
-"""The ground station's caged polygon from what the boundary drones report over Zenoh (pure).
+"""The ground station's caged polygon from the boundary drones' state messages (pure; both engines use it).
 
 Each boundary drone's state message carries its position (odometry in the mission frame) and the water-edge points
 its camera sees. The drones without GPS know positions only relative to their pads; the GPS leader reports both its
@@ -16,6 +16,12 @@ from numpy.typing import NDArray
 from comms.frames import GeodeticHome, geodetic_to_enu
 from comms.messages import FLAG_LEAVING, NeighbourState
 from gcs.polygon.caged import caged_polygon
+
+
+def report_max_age_s(control_rate_hz: float) -> float:
+    """How old a boundary drone's newest report may be before its ring slot counts as missing [s]: three control
+    periods (the drones broadcast every period) plus a second for transport and a busy host."""
+    return 3.0 / control_rate_hz + 1.0
 
 
 def georeference_offset_en_m(leader: NeighbourState | None, home: GeodeticHome) -> NDArray[np.float64]:

@@ -1,0 +1,24 @@
+"""When a camera takes its next frame: a fixed grid of frame times in mission time, shared by both engines.
+
+A camera runs at its own rate (``[camera] rate_hz``), slower than the control loop; frames fall on the grid
+``k / rate_hz`` of mission time. A renderer that falls behind skips the slots it missed instead of bursting to catch
+up, as a real camera drops frames, and stays on the grid.
+"""
+
+from __future__ import annotations
+
+import math
+
+TIME_EPSILON_S = 1e-9
+"""Times this close count as equal (sums of periods carry rounding)."""
+
+
+def frame_due(due_s: float, now_s: float) -> bool:
+    """Is the frame slot ``due_s`` reached at ``now_s``?"""
+    return now_s + TIME_EPSILON_S >= due_s
+
+
+def next_frame_due_s(due_s: float, period_s: float, now_s: float) -> float:
+    """The grid slot after the one at ``due_s`` that is still ahead of ``now_s`` (slots missed are skipped)."""
+    missed = max(0, math.floor((now_s + TIME_EPSILON_S - due_s) / period_s))
+    return due_s + period_s * (missed + 1)

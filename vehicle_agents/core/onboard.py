@@ -1,0 +1,176 @@
+"""One onboard step for N drones: flight phase, neighbours, control law, setpoint and state message (pure).
+
+The order inside a step is the agent's: decide the flight phase from telemetry and the ground station's order
+(:func:`vehicle_agents.flight_phase.next_phase`), file the inbox into the neighbour table
+(:mod:`vehicle_agents.core.neighbours`), run the control law of the drone's role when the phase says fly
+(:func:`vehicle_agents.control.step.control_step`: eq 8 + Algorithm 1, eq 9, eq 10), and build the state message
+it broadcasts (:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled there and only there).
+The laws still loop over drones; the interface is arrays in, arrays out, so that it holds when they no longer do.
+A neighbour's message is turned into what the laws read once per step, however many drones heard it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from comms.messages import NeighbourState
+from vehicle_agents.control.memory import ControlMemory
+from vehicle_agents.control.params import ControlParams
+from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
+from vehicle_agents.control.types import NeighbourInfo
+from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
+from vehicle_agents.core.telemetry import TelemetryBatch
+from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
+from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
+from vehicle_agents.perception.result import PerceptionResult
+
+SETPOINT_ACTIONS = frozenset({Action.FLY, Action.HOVER})
+"""Actions that stream a velocity setpoint to the autopilot this period."""
+
+
+@dataclass(frozen=True)
+class OnboardPlan:
+    """The N drones a core instance flies: ids, roles, pads [m; mission E, N], GPS, and the shared parameters."""
+
+    vehicle_ids: tuple[int, ...]
+    roles: tuple[str, ...]
+    pads_en_m: tuple[tuple[float, float], ...]
+    has_gps: tuple[bool, ...]
+    params: ControlParams
+    limits: PhaseLimits = field(default_factory=PhaseLimits)
+
+    def __post_init__(self) -> None:
+        n = len(self.vehicle_ids)
+        if not (len(self.roles) == len(self.pads_en_m) == len(self.has_gps) == n):
+            raise ValueError("OnboardPlan: vehicle_ids, roles, pads_en_m and has_gps must have one entry per drone")
+
+    def __len__(self) -> int:
+        return len(self.vehicle_ids)
+
+
+@dataclass(frozen=True)
+class GroundOrder:
+    """The ground station's newest order as one drone received it (None before the first).
+
+    ``age_s`` is how long ago it arrived (wall seconds in an agent: the ground station repeats its order twice a
+    second, and its silence is a link matter); ``flood_clock_start_t_s`` the mission time the flood clock started.
+    """
+
+    command: Command | None = None
+    age_s: float | None = None
+    flood_clock_start_t_s: float | None = None
+
+
+NO_ORDER = GroundOrder()
+
+
+@dataclass(frozen=True)
+class OnboardInputs:
+    """Everything N drones know at mission time ``t_s``; per-drone sequences have one entry per plan row."""
+
+    t_s: float
+    telemetry: TelemetryBatch
+    perception: Sequence[PerceptionResult | None]
+    """Each drone's result of its newest camera frame (None before the first): perception runs before the core."""
+    inbox: Sequence[Inbox]
+    orders: Sequence[GroundOrder]
+    stop: Sequence[bool] | None = None
+    """Per drone: the process is being stopped (SIGTERM, Ctrl-C) and must leave at this step."""
+
+
+@dataclass(frozen=True)
+class OnboardState:
+    """What the core remembers between steps (replaced, never mutated)."""
+
+    phases: tuple[Phase, ...]
+    memories: tuple[ControlMemory, ...]
+    heard: tuple[Mapping[int, NeighbourState], ...]
+    departed: tuple[frozenset[int], ...]
+    seq: tuple[int, ...]
+    flood_clock_start_t_s: tuple[float | None, ...]
+
+
+@dataclass(frozen=True)
+class OnboardOutputs:
+    """What N drones do this step."""
+
+    actions: tuple[Action, ...]
+    velocity_setpoint_ned_mps: NDArray[np.float64]
+    """(N, 3) [m/s; NED]; meaningful where the action streams a setpoint (:data:`SETPOINT_ACTIONS`)."""
+    yaw_ned_rad: NDArray[np.float64]
+    state_messages: tuple[NeighbourState | None, ...]
+    """Each drone's broadcast (None while its autopilot has never spoken: it knows nothing to tell)."""
+
+
+def initial_state(plan: OnboardPlan, phase: Phase = Phase.CONNECTING) -> OnboardState:
+    """Every drone at ``phase`` (an agent starts CONNECTING; lockstep starts its hovering fleet in MISSION)."""
+    n = len(plan)
+    return OnboardState(
+        phases=(phase,) * n,
+        memories=tuple(initial_memory(role, vid, plan.params) for vid, role in zip(plan.vehicle_ids, plan.roles)),
+        heard=({},) * n,
+        departed=(frozenset(),) * n,
+        seq=(0,) * n,
+        flood_clock_start_t_s=(None,) * n,
+    )
+
+
+def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) -> tuple[OnboardOutputs, OnboardState]:
+    """One control period of every drone of ``plan`` (see module doc). Pure."""
+    n = len(plan)
+    params = plan.params
+    t_s = inputs.t_s
+    phases = list(state.phases)
+    memories = list(state.memories)
+    heard = list(state.heard)
+    departed = list(state.departed)
+    seq = list(state.seq)
+    flood_start = list(state.flood_clock_start_t_s)
+    actions: list[Action] = []
+    setpoints = np.zeros((n, 3))
+    yaws = np.zeros(n)
+    messages: list[NeighbourState | None] = []
+    converted: dict[int, NeighbourInfo] = {}
+    for i in range(n):
+        tel = inputs.telemetry.vehicle(i)
+        order = inputs.orders[i]
+        if order.flood_clock_start_t_s is not None:
+            flood_start[i] = order.flood_clock_start_t_s
+        command = Command.STOP if inputs.stop is not None and inputs.stop[i] else order.command
+        silence_s = float(inputs.telemetry.link_silence_s[i])
+        phase, action = next_phase(phases[i], PhaseInputs(tel, silence_s, command, order.age_s), plan.limits)
+        phases[i] = phase
+        actions.append(action)
+        vid = plan.vehicle_ids[i]
+        inbox = inputs.inbox[i] if inputs.inbox else EMPTY_INBOX
+        heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, params.neighbour_timeout_s)
+        own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
+        if action is Action.FLY:
+            infos = []
+            for msg in heard[i].values():
+                info = converted.get(id(msg))
+                if info is None:
+                    info = converted[id(msg)] = neighbour_info(msg, max(0.0, t_s - msg.t_s))
+                infos.append(info)
+            start_s = flood_start[i] if flood_start[i] is not None else t_s
+            velocity, memories[i] = control_step(plan.roles[i], memories[i], own, inputs.perception[i], infos, params,
+                                                 max(0.0, t_s - start_s))
+            setpoints[i] = velocity_ned(velocity)
+            yaws[i] = float(velocity.yaw_ned_rad)
+        if not inputs.telemetry.heard(i):
+            messages.append(None)
+            continue
+        seq[i] += 1
+        messages.append(state_message(
+            seq=seq[i], t_s=t_s, broadcast=own_broadcast(memories[i], own, t_s), own=own, tel=tel,
+            perception=inputs.perception[i], edge_points_en_m=memories[i].edge_points_en_m,
+            leaving=action is Action.EXIT, low_battery=tel.battery_fraction < plan.limits.low_battery_fraction,
+        ))
+    outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
+    new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
+                        departed=tuple(departed), seq=tuple(seq), flood_clock_start_t_s=tuple(flood_start))
+    return outputs, new_state
