@@ -22,7 +22,6 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,16 +29,15 @@ from numpy.typing import NDArray
 from comms.frames import enu_to_geodetic, ned_to_enu
 from comms.messages import NeighbourState
 from comms.radio_model import RadioModel
+from gcs.lockstep.backend_choice import BackendKind, make_backend
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.scenario import Scenario
-from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleBackend, VehicleRequest
-from mock_autopilot.backends.kinematic import KinematicBackend
+from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
 from mock_autopilot.camera.schedule import frame_due, next_frame_due_s
-from mock_autopilot.dynamics_params import px4_params
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.control.params import ControlParams
@@ -56,15 +54,6 @@ from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseLimits
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import perceive
-
-
-class BackendKind(Enum):
-    """Which vehicle dynamics a lockstep run flies (``--backend``)."""
-
-    KINEMATIC = "kinematic"
-    """The paper's holonomic point with PX4's limits and first-order response (fast)."""
-    PX4 = "px4"
-    """The sans-IO mock PX4 itself: MAVLink setpoints and commands, commander modes and failsafes."""
 
 
 _REQUESTS = {
@@ -92,22 +81,6 @@ class LockstepResult:
     radio_lost: int
     radio_bytes: int = 0
     """State-message bytes put on the air (each broadcast once)."""
-
-
-def make_backend(kind: BackendKind, scenario: Scenario) -> VehicleBackend:
-    """The scenario's vehicles on the chosen backend; both read the scenario's ``[kinematics]`` (response time too)."""
-    limits = scenario.kinematics
-    if kind is BackendKind.PX4:
-        from mock_autopilot.backends.px4 import Px4Backend
-        from mock_autopilot.vehicle import VehicleConfig
-
-        params = px4_params(limits, scenario.altitude_m)
-        return Px4Backend([
-            VehicleConfig(instance=i, has_gps=v.has_gps, pad_enu_m=v.pad_enu_m, home=scenario.home, params=params,
-                          system_id=v.vehicle_id, response_time_s=limits.response_time_s)
-            for i, v in enumerate(scenario.vehicles)
-        ])
-    return KinematicBackend(limits, len(scenario.vehicles))
 
 
 def telemetry_of(state: BackendState, positions_enu_m: NDArray[np.float64], gps: NDArray[np.bool_],

@@ -7,6 +7,7 @@ import sys
 from typing import Any
 
 from comms.radio_model import RadioModel
+from gcs.lockstep.backend_choice import BackendKind
 from gcs.lockstep.engine import LockstepResult, run_lockstep
 from gcs.mission.options import MissionOptions
 from gcs.report import write_mission_outputs
@@ -42,7 +43,7 @@ def summary_of(metrics: dict[str, Any]) -> dict[str, Any]:
 def run_and_write(scenario: Scenario, options: MissionOptions) -> tuple[LockstepResult, dict[str, Any]]:
     """Run the lockstep engine and write every output into ``options.out_dir``; returns the result and metrics."""
     check_models(scenario)
-    result = run_lockstep(scenario, options.mode)
+    result = run_lockstep(scenario, options.mode, backend=BackendKind(options.backend))
     options.out_dir.mkdir(parents=True, exist_ok=True)
     paths = write_mission_outputs(result.record, result.flood, scenario.name, scenario.home, options.out_dir,
                                   scenario.camera.fov_deg)
@@ -54,8 +55,8 @@ def run_mission(scenario: Scenario, options: MissionOptions) -> int:
     """CLI entry of the lockstep engine: exit 0 when the run reached its end and the outputs are written."""
     result, metrics = run_and_write(scenario, options)
     sim_s = result.steps / scenario.control_rate_hz
-    print(f"lockstep {scenario.name} mode={options.mode} seed={scenario.seed}: {sim_s:.0f} s simulated in "
-          f"{result.wall_s:.1f} s wall ({sim_s / max(result.wall_s, 1e-9):.1f}x real time), {result.frames} camera frames")
+    print(f"lockstep {scenario.name} mode={options.mode} backend={options.backend} seed={scenario.seed}: "
+          f"{sim_s:.0f} s simulated in {result.wall_s:.1f} s wall ({sim_s / max(result.wall_s, 1e-9):.1f}x real time), {result.frames} camera frames")
     for key, value in summary_of(metrics).items():
         print(f"  {key}: {value}")
     print(f"outputs: {options.out_dir}")

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
-from gcs.mission.options import ENGINES, MissionOptions
+from gcs.mission.options import BACKENDS, ENGINES, MissionOptions
 from gcs.scenario import Scenario, ScenarioError, load_scenario
 from vehicle_agents.control.params import MODES
 
@@ -31,6 +31,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m gcs.mission", description="Run a FloodWatch mission (SPEC §4-§6).")
     parser.add_argument("scenario", help="bundled scenario name (circle, ellipse, ...) or path to a .toml file")
     parser.add_argument("--engine", choices=ENGINES, default="processes", help="default: processes")
+    parser.add_argument("--backend", choices=BACKENDS, default=None,
+                        help="lockstep vehicle dynamics: kinematic (default) or px4, the mock PX4 itself (modes, "
+                             "failsafes); the processes engine always flies the mock PX4 fleet")
     parser.add_argument("--mode", choices=MODES, default="improved",
                         help="control laws: improved (default) or paper, the laws as printed (docs/RESULTS.md)")
     parser.add_argument("--seed", type=int, default=None, help="seed for the flood, camera noise and radio")
@@ -65,22 +68,27 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
     for name in ("base_port", "gcs_port"):
         if not 1 <= getattr(ns, name) <= 65535:
             _fail(f"--{name.replace('_', '-')}: must be a port number, got {getattr(ns, name)}")
+    if ns.backend is not None and ns.engine != "lockstep":
+        _fail(f"--backend {ns.backend}: only the lockstep engine has a choice (processes fly the mock PX4 fleet)")
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
     return MissionOptions(
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
+        backend=ns.backend or "kinematic",
     )
 
 
 def resolve_scenario(options: MissionOptions) -> Scenario:
-    """Load the scenario with ``--set`` overrides, then ``--seed`` and ``--duration``; raises ScenarioError."""
-    scenario = load_scenario(options.scenario, options.overrides)
-    changes: dict[str, object] = {}
-    if options.seed is not None:
-        changes["seed"] = options.seed
+    """Load the scenario with ``--set`` overrides and ``--seed``, then ``--duration``; raises ScenarioError.
+
+    The seed goes in as one more override, before resolution: what it draws ("auto" launch pads on a seeded
+    terrain) then agrees with the run's seed.
+    """
+    seed = [f"seed={options.seed}"] if options.seed is not None else []
+    scenario = load_scenario(options.scenario, [*options.overrides, *seed])
     if options.duration_s is not None:
-        changes["duration_s"] = options.duration_s
-    return dataclasses.replace(scenario, **changes) if changes else scenario
+        return dataclasses.replace(scenario, duration_s=options.duration_s)
+    return scenario
 
 
 def _fail(message: str) -> None:

@@ -6,6 +6,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ENGINES = ("processes", "lockstep")
+BACKENDS = ("kinematic", "px4")
+"""Vehicle dynamics of a lockstep run (``gcs.lockstep.backend_choice.BackendKind``); the processes engine always
+flies the mock PX4 fleet."""
 
 
 @dataclass(frozen=True)
@@ -28,3 +31,5 @@ class MissionOptions:
     base_port: int = 14540
     gcs_port: int = 14550
     live: bool = True
+    backend: str = "kinematic"
+    """Lockstep only: ``kinematic`` (default) or ``px4`` (the mock PX4's mode logic and failsafes in the loop)."""

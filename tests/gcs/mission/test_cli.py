@@ -23,6 +23,8 @@ REPO = Path(__file__).resolve().parents[3]
         (["circle", "--engine", "warp"], "--engine"),
         (["circle", "--seed", "x"], "--seed"),
         (["circle", "--engine", "lockstep", "--set", "flood.radius_start_m=-3"], "flood.radius_start_m"),
+        (["circle", "--backend", "px4"], "--backend"),
+        (["circle", "--engine", "lockstep", "--backend", "gazebo"], "--backend"),
     ],
 )
 def test_bad_input_prints_one_line_and_exits_2(argv: list[str], needle: str, capsys: pytest.CaptureFixture[str]) -> None:
@@ -43,14 +45,15 @@ def test_options_and_default_out_dir() -> None:
     assert out.parent == Path("runs") and out.name.endswith("-circle-lockstep-paper")
 
 
-def test_lockstep_run_writes_the_mission_outputs(tmp_path: Path) -> None:
+@pytest.mark.parametrize("backend", ["kinematic", "px4"])
+def test_lockstep_run_writes_the_mission_outputs(tmp_path: Path, backend: str) -> None:
     out = tmp_path / "run"
     proc = subprocess.run(
         [sys.executable, "-m", "gcs.mission", "circle", "--engine", "lockstep", "--mode", "improved", "--seed", "2",
-         "--duration", "4", "--out", str(out)],
+         "--duration", "4", "--out", str(out), "--backend", backend],
         cwd=REPO, capture_output=True, text=True, timeout=240,
     )
     assert proc.returncode == 0, proc.stderr
     for name in ("metrics.json", "polygons.geojson", "polygons.kml", "trajectories.png"):
         assert (out / name).is_file() and (out / name).stat().st_size > 0, name
-    assert "outputs:" in proc.stdout
+    assert "outputs:" in proc.stdout and f"backend={backend}" in proc.stdout
