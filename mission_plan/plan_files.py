@@ -63,9 +63,9 @@ def decode_plan(data: bytes, plan_type: type[Plan]) -> Plan:
     info = mi.type_info(plan_type)
     assert isinstance(info, mi.StructType)
     if not isinstance(raw, dict) or PLAN_TAG_FIELD not in raw:
-        raise PlanFileError(f"{PLAN_TAG_FIELD}: missing; expected a FloodWatch {info.tag} plan")
+        raise PlanFileError(f"no {PLAN_TAG_FIELD!r} key: not a FloodWatch plan (expected {info.tag!r})")
     if raw[PLAN_TAG_FIELD] != info.tag:
-        raise PlanFileError(f"{PLAN_TAG_FIELD}: is {raw[PLAN_TAG_FIELD]!r}, expected {info.tag!r}")
+        raise PlanFileError(f"holds plan {raw[PLAN_TAG_FIELD]!r}, expected {info.tag!r}")
     message = _unknown_key(raw, info, "")
     if message is not None:
         raise PlanFileError(message)

@@ -112,7 +112,8 @@ def _home(table: Mapping[str, Any]) -> GeodeticHome:
     )
 
 
-def _camera(table: Mapping[str, Any]) -> CameraSpec:
+def camera_spec(table: Mapping[str, Any]) -> CameraSpec:
+    """The ``[camera]`` table as a :class:`CameraSpec` (missing keys take the defaults)."""
     return CameraSpec(
         width_px=integer(table, "width_px", CameraSpec.width_px, "camera", minimum=8),
         height_px=integer(table, "height_px", CameraSpec.height_px, "camera", minimum=8),
@@ -166,7 +167,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         home=_home(sub_table(raw, "home")),
         flood=flood,
         vehicles=build_fleet(fleet),
-        camera=_camera(sub_table(raw, "camera")),
+        camera=camera_spec(sub_table(raw, "camera")),
         radio=_radio(sub_table(raw, "radio")),
         kinematics=_kinematics(sub_table(raw, "kinematics")),
         control=sub_table(raw, "control"),

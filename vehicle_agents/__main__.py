@@ -1,9 +1,15 @@
-"""``python -m vehicle_agents --id N --role boundary --mavlink udpin://0.0.0.0:14540+i --scenario circle``.
+"""``python -m vehicle_agents --plan agent_3.json`` (or ``--id 3 --scenario circle``): one drone's onboard computer.
 
-One drone's onboard computer. Reads its mission plan (role, group, pad, control parameters) from the scenario,
-connects to its autopilot over MAVLink (MAVSDK by default), joins the swarm over Zenoh, and flies until told to
-stop, until it lands, or until its autopilot falls silent. Exit codes: 0 done, 2 bad arguments or scenario,
-3 vehicle lost, 4 could not start (no autopilot, Zenoh unreachable).
+Its mission plan (who it is, its pad, the control parameters with the roster, rates, altitude) comes from a plan
+file, what a real drone's companion computer receives like any mission file: the ground station writes one per
+drone (``<run>/plan/agent_<id>.json``) and ``python -m gcs.plan SCENARIO --out DIR`` writes them for deployment.
+``--scenario NAME`` (with ``--id``, ``--set``, ``--mode``) resolves a scenario locally through ``mission_plan`` as
+a convenience; a scenario whose pads are "auto" needs the flood model and therefore a plan file. Nothing here
+imports the ground station or builds the flood model.
+
+The agent connects to its autopilot over MAVLink (MAVSDK by default), joins the swarm over Zenoh, and flies until
+told to stop, until it lands, or until its autopilot falls silent. Exit codes: 0 done, 2 bad arguments, scenario or
+plan, 3 vehicle lost, 4 could not start (no autopilot, Zenoh unreachable).
 """
 
 from __future__ import annotations
@@ -14,11 +20,16 @@ import logging
 import signal
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from comms.keys import KeyNameError, validate_mission
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.zenoh_session import ZenohOpenError
-from gcs.scenario import ScenarioError, load_scenario
+from mission_plan.control_params import MODES
+from mission_plan.plan_files import PlanFileError, read_plan
+from mission_plan.plans import AgentPlan, agent_plan
+from mission_plan.scenario_files import load_scenario
+from mission_plan.table_fields import ScenarioError
 from vehicle_agents.agent import EXIT_START_FAILED, Agent, AgentConfig
 from vehicle_agents.flight_phase import PhaseLimits
 
@@ -27,19 +38,22 @@ EXIT_USAGE = 2
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m vehicle_agents", description="One FloodWatch drone's onboard agent.")
-    p.add_argument("--id", type=int, required=True, dest="vehicle_id", help="vehicle id (= MAVLink system id)")
-    p.add_argument("--role", choices=("boundary", "leader", "follower"), help="must match the scenario's plan")
+    p.add_argument("--plan", type=Path, metavar="FILE", help="this drone's plan file (agent plan JSON)")
+    p.add_argument("--id", type=int, dest="vehicle_id", help="vehicle id (= MAVLink system id); with --scenario")
+    p.add_argument("--role", choices=("boundary", "leader", "follower"), help="must match the plan")
     p.add_argument("--mavlink", help="autopilot URL (default udpin://0.0.0.0:<14540 + id - 1>)")
     p.add_argument("--mavlink-base-port", type=int, default=14540, help="base of the default URL's port")
     p.add_argument("--link", choices=("mavsdk", "pymavlink"), default="mavsdk", help="MAVLink library")
-    p.add_argument("--scenario", default="circle", help="bundled scenario name or TOML path")
-    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
-    p.add_argument("--mode", choices=("paper", "improved"), default="improved")
-    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
+    p.add_argument("--scenario", help="without --plan: bundled scenario name or TOML path (default circle)")
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE",
+                   help="with --scenario: override a scenario parameter")
+    p.add_argument("--mode", choices=MODES, help="with --scenario: control laws (default improved); with --plan: "
+                                                  "must match the plan's")
+    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the plan's)")
     p.add_argument("--neighbours", choices=("radio", "direct"), default="radio",
                    help="hear neighbours through the radio emulator (simulation) or directly (real radio)")
     p.add_argument("--speed", type=float, default=1.0, help="simulation speed factor (mission s per wall s)")
-    p.add_argument("--rate-hz", type=float, help="control rate in mission time (default: the scenario's)")
+    p.add_argument("--rate-hz", type=float, help="control rate in mission time (default: the plan's)")
     p.add_argument("--connect-timeout", type=float, default=30.0, help="wall seconds to wait for the autopilot")
     p.add_argument("--link-timeout", type=float, default=2.0, help="wall seconds of autopilot silence = vehicle lost")
     p.add_argument("--log-level", default="INFO")
@@ -47,32 +61,55 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _config(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
-    scenario = load_scenario(args.scenario, args.overrides)
-    spec = next((v for v in scenario.vehicles if v.vehicle_id == args.vehicle_id), None)
-    if spec is None:
-        raise ScenarioError(f"--id {args.vehicle_id}: scenario {scenario.name} has vehicles 1..{len(scenario.vehicles)}")
-    if args.role is not None and args.role != spec.role:
-        raise ScenarioError(f"--role {args.role}: scenario {scenario.name} plans vehicle {spec.vehicle_id} as {spec.role}")
-    if not args.speed > 0:
-        raise ScenarioError(f"--speed {args.speed}: must be > 0")
-    rate_hz = args.rate_hz if args.rate_hz is not None else scenario.control_rate_hz
-    if not rate_hz > 0:
-        raise ScenarioError(f"--rate-hz {rate_hz}: must be > 0")
-    mission = validate_mission(args.mission or scenario.name)
-    url = args.mavlink or f"udpin://0.0.0.0:{args.mavlink_base_port + args.vehicle_id - 1}"
-    config = AgentConfig(
-        vehicle_id=spec.vehicle_id,
-        role=spec.role,
-        group=spec.group,
-        pad_enu_m=(spec.pad_enu_m[0], spec.pad_enu_m[1]),
-        has_gps=spec.has_gps,
-        params=scenario.control_params(args.mode),
-        control_rate_hz=rate_hz,
-        speed=args.speed,
-        connect_timeout_s=args.connect_timeout,
-        limits=PhaseLimits(takeoff_altitude_m=scenario.altitude_m, link_timeout_s=args.link_timeout),
+def load_agent_plan(args: argparse.Namespace) -> AgentPlan:
+    """This drone's plan: the ``--plan`` file, or the ``--scenario`` resolved locally (no flood model)."""
+    if args.plan is not None:
+        if args.scenario is not None or args.overrides:
+            raise ScenarioError("--plan: the plan is already resolved; --scenario and --set apply without it")
+        plan = read_plan(args.plan, AgentPlan)
+        if args.vehicle_id is not None and args.vehicle_id != plan.vehicle.vehicle_id:
+            raise ScenarioError(f"--id {args.vehicle_id}: the plan {args.plan} is vehicle {plan.vehicle.vehicle_id}'s")
+        if args.mode is not None and args.mode != plan.params.mode:
+            raise ScenarioError(f"--mode {args.mode}: the plan {args.plan} was made for mode {plan.params.mode}")
+        return plan
+    if args.vehicle_id is None:
+        raise ScenarioError("--id: required with --scenario (or give a --plan file)")
+    scenario = load_scenario(args.scenario or "circle", args.overrides)
+    return agent_plan(scenario, args.vehicle_id, args.mode or "improved")
+
+
+def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float = 1.0,
+                 connect_timeout_s: float = 30.0, link_timeout_s: float = 2.0) -> AgentConfig:
+    """The agent's configuration from its plan; ``rate_hz`` overrides the plan's control rate."""
+    vehicle = plan.vehicle
+    control_rate_hz = plan.control_rate_hz if rate_hz is None else rate_hz
+    if not control_rate_hz > 0:
+        raise ScenarioError(f"--rate-hz {control_rate_hz}: must be > 0")
+    if not speed > 0:
+        raise ScenarioError(f"--speed {speed}: must be > 0")
+    return AgentConfig(
+        vehicle_id=vehicle.vehicle_id,
+        role=vehicle.role,
+        group=vehicle.group,
+        pad_enu_m=(vehicle.pad_enu_m[0], vehicle.pad_enu_m[1]),
+        has_gps=vehicle.has_gps,
+        params=plan.params,
+        control_rate_hz=control_rate_hz,
+        speed=speed,
+        connect_timeout_s=connect_timeout_s,
+        limits=PhaseLimits(takeoff_altitude_m=plan.altitude_m, link_timeout_s=link_timeout_s),
     )
+
+
+def config_from_args(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
+    """The agent's configuration, its mission name in the Zenoh keys and its autopilot URL; raises on bad input."""
+    plan = load_agent_plan(args)
+    if args.role is not None and args.role != plan.vehicle.role:
+        raise ScenarioError(f"--role {args.role}: the plan has vehicle {plan.vehicle.vehicle_id} as {plan.vehicle.role}")
+    config = agent_config(plan, rate_hz=args.rate_hz, speed=args.speed, connect_timeout_s=args.connect_timeout,
+                          link_timeout_s=args.link_timeout)
+    mission = validate_mission(args.mission or plan.mission)
+    url = args.mavlink or f"udpin://0.0.0.0:{args.mavlink_base_port + config.vehicle_id - 1}"
     return config, mission, url
 
 
@@ -97,9 +134,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        config, mission, url = _config(args)
+        config, mission, url = config_from_args(args)
         zenoh = zenoh_config_from_args(args)
-    except (ScenarioError, KeyNameError, ValueError) as exc:
+    except (ScenarioError, PlanFileError, KeyNameError, ValueError) as exc:
         print(f"vehicle_agents: {exc}", file=sys.stderr)
         return EXIT_USAGE
     from vehicle_agents.swarm_link_zenoh import ZenohSwarmLink

@@ -4,7 +4,8 @@ Sequence (SPEC §1, §6):
 
 1. open the mission's Zenoh hub (the port outside clients join) and the MAVLink GCS port, so a busy port fails
    before any child starts;
-2. start the mock fleet with its simulator bridge, the radio emulator, and one agent process per vehicle;
+2. write each child's plan file (``<out>/plan/``: fleet, cameras, one per agent), then start the mock fleet with its
+   simulator bridge, the camera renderer, the radio emulator, and one agent process per vehicle;
 3. STARTING: wait until every vehicle is heard on the GCS link and every agent holds its liveliness token;
 4. TAKEOFF: the agents arm, take off and switch to OFFBOARD on their own; when the GCS link shows every vehicle
    armed, airborne and in OFFBOARD, the ground station starts the flood clock and commands ``start``;
@@ -42,6 +43,7 @@ from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
 from gcs.processes.event_log import EventLog
 from gcs.processes.host_capacity import estimate_capacity
+from gcs.plan.files import write_plans
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
 from gcs.processes.mavlink_watch import MavlinkWatcher
@@ -178,12 +180,13 @@ class GroundStation:
 
     def _start_children(self) -> None:
         opts = self.options
-        self.services["sim"] = self.supervisor.start("sim", sim_command(opts, self.mission))
-        self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, self.mission))
+        plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission)
+        self.services["sim"] = self.supervisor.start("sim", sim_command(opts, plans.fleet))
+        self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, plans.cameras))
         self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
         for vehicle in self.scenario.vehicles:
             self.agents[vehicle.vehicle_id] = self.supervisor.start(
-                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, vehicle.role, self.mission),
+                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, plans.agents[vehicle.vehicle_id]),
                 niceness=AGENT_NICENESS,
             )
             self.agent_alive[vehicle.vehicle_id] = False

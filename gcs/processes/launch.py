@@ -1,7 +1,8 @@
 """The process engine's options and the command lines of its children (pure).
 
-Children load the same scenario file with the same ``--set`` overrides as the ground station, so every process
-agrees on the plan without a side channel; the seed travels as one more override.
+The ground station resolves the scenario once and writes each child's slice as a plan file (``gcs.plan.files``);
+the fleet, the camera renderer and every agent get ``--plan FILE`` and only what is about this run's machine (ports,
+speed, the Zenoh endpoint). The radio emulator's few values travel on its command line.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ class ProcessOptions:
     """How to run a mission with the processes engine (ports configurable so tests never clash with a user's run)."""
 
     scenario_arg: str
-    """The scenario name or TOML path, as given on the command line (children load it again)."""
+    """The scenario name or TOML path, as given on the command line (for the record; children read plan files)."""
     overrides: tuple[str, ...] = ()
     mode: str = "improved"
     seed: int | None = None
@@ -41,37 +42,19 @@ class ProcessOptions:
     """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
 
 
-def effective_overrides(options: ProcessOptions) -> list[str]:
-    sets = list(options.overrides)
-    if options.seed is not None:
-        sets.append(f"seed={options.seed}")
-    return sets
-
-
-def _set_args(options: ProcessOptions) -> list[str]:
-    args: list[str] = []
-    for assignment in effective_overrides(options):
-        args += ["--set", assignment]
-    return args
-
-
-def sim_command(options: ProcessOptions, mission: str) -> list[str]:
-    """The mock fleet with its simulator bridge (camera frames and truth over Zenoh)."""
+def sim_command(options: ProcessOptions, plan: Path) -> list[str]:
+    """The mock fleet with its simulator bridge (truth over Zenoh; the cameras run in their own process)."""
     return [
-        "mock_autopilot.sim_bridge", "--scenario", options.scenario_arg, *_set_args(options),
-        "--mission", mission, "--speed", f"{options.speed:g}",
+        "mock_autopilot.sim_bridge", "--plan", str(plan), "--speed", f"{options.speed:g}",
         "--base-port", str(options.mavlink_base_port), "--gcs-port", str(options.gcs_port),
         "--cameras", "none", "--connect", options.zenoh_endpoint,
         *[arg for fault in options.sim_faults for arg in ("--fault", fault)],
     ]
 
 
-def cameras_command(options: ProcessOptions, mission: str) -> list[str]:
+def cameras_command(options: ProcessOptions, plan: Path) -> list[str]:
     """The camera streams, in their own process, rendered from the truth the fleet publishes."""
-    return [
-        "mock_autopilot.sim_bridge.cameras", "--scenario", options.scenario_arg, *_set_args(options),
-        "--mission", mission, "--connect", options.zenoh_endpoint,
-    ]
+    return ["mock_autopilot.sim_bridge.cameras", "--plan", str(plan), "--connect", options.zenoh_endpoint]
 
 
 def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> list[str]:
@@ -83,11 +66,10 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
     ]
 
 
-def agent_command(options: ProcessOptions, vehicle_id: int, role: str, mission: str) -> list[str]:
+def agent_command(options: ProcessOptions, vehicle_id: int, plan: Path) -> list[str]:
+    """One drone's agent: its plan file and the onboard port of its mock PX4 (skipping the GCS port)."""
     port = onboard_port(options.mavlink_base_port, vehicle_id - 1, options.gcs_port)
     return [
-        "vehicle_agents", "--id", str(vehicle_id), "--role", role, "--mavlink", f"udpin://0.0.0.0:{port}",
-        "--link", options.agent_link, "--scenario", options.scenario_arg, *_set_args(options),
-        "--mode", options.mode, "--mission", mission, "--speed", f"{options.speed:g}",
-        "--connect", options.zenoh_endpoint, *options.extra_agent_args,
+        "vehicle_agents", "--plan", str(plan), "--mavlink", f"udpin://0.0.0.0:{port}", "--link", options.agent_link,
+        "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, *options.extra_agent_args,
     ]

@@ -1,7 +1,7 @@
 """Preview what a drone's downward camera sees: ``python -m mock_autopilot.camera --scenario circle --t 30
 --east 16 --north 0 --alt 10 --out frame.png [--mask]``.
 
-``--scenario`` takes a scenario name or TOML path (``gcs.scenario.load_scenario``: its flood table, seed and
+``--scenario`` takes a scenario name or TOML path (read through ``mission_plan``: its flood table, seed and
 camera) and falls back to a built-in flood model name with its defaults (circle, ellipse, nonconvex, drift,
 terrain). ``--mask`` also writes the ground-truth water mask beside the image as ``<out>_mask.png``.
 """
@@ -18,6 +18,9 @@ from typing import Any
 
 import cv2
 
+from mission_plan.scenario_files import read_scenario_table, scenario_path
+from mission_plan.scenario_schema import camera_spec, check_keys
+from mission_plan.table_fields import ScenarioError, integer, sub_table
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
 from mock_autopilot.world.config import MODEL_NAMES, FloodConfigError, flood_model_from_config
@@ -54,18 +57,16 @@ def _world(config: PreviewConfig) -> tuple[FloodModel, CameraModel, int]:
     base_dir: Path | None = None
     scenario_error: str | None = None
     try:
-        from gcs.scenario import load_scenario  # the control team's loader; optional for this tool
-
-        scenario = load_scenario(config.scenario)
-        flood_table = dict(scenario.flood)
-        seed = scenario.seed
-        base_dir = getattr(scenario, "source_dir", None)
-        cam = scenario.camera
+        path = scenario_path(config.scenario)
+        raw = read_scenario_table(path)
+        check_keys(raw)
+        flood_table = dict(sub_table(raw, "flood"))
+        seed = integer(raw, "seed", 1, "")
+        base_dir = path.resolve().parent
+        cam = camera_spec(sub_table(raw, "camera"))
         camera_kw = {"width_px": cam.width_px, "height_px": cam.height_px, "fov_deg": cam.fov_deg}
-    except ImportError:
-        flood_table = {"model": config.scenario}
-    except Exception as exc:  # a scenario that does not load may still be a built-in model name
-        scenario_error = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    except ScenarioError as exc:  # a scenario that does not load may still be a built-in model name
+        scenario_error = str(exc)
         flood_table = {"model": config.scenario}
     if scenario_error is not None and config.scenario not in MODEL_NAMES:
         raise PreviewError(f"--scenario {config.scenario!r}: {scenario_error}")

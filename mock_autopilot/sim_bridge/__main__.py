@@ -1,9 +1,11 @@
-"""``python -m mock_autopilot.sim_bridge --scenario circle``: the mock PX4 fleet of a scenario plus its bridge.
+"""``python -m mock_autopilot.sim_bridge --plan fleet.json`` (or ``--scenario circle``): the mock PX4 fleet plus its bridge.
 
-Starts one simulated PX4 per scenario vehicle (pads, GPS, home and velocity limits from the scenario; system id =
-vehicle id; onboard link to ``--base-port + i``, GCS link to ``--gcs-port``) and, in the same process, the
-simulator bridge that renders each vehicle's camera and publishes frames and ground truth over Zenoh. Runs until
-SIGTERM / Ctrl-C. Exit codes: 0 stopped, 1 a port is taken or Zenoh is unreachable, 2 bad arguments.
+Starts one simulated PX4 per planned vehicle (pads, GPS, home, velocity limits and response time from the fleet
+plan; system id = vehicle id; onboard link to ``--base-port + i``, GCS link to ``--gcs-port``) and, in the same
+process, the simulator bridge that publishes ground truth (and, unless ``--cameras none``, each vehicle's camera)
+over Zenoh. The ground station writes the fleet plan (``<run>/plan/fleet.json``); ``--scenario NAME`` resolves a
+scenario locally through ``mission_plan`` (not for "auto" pads). Runs until SIGTERM / Ctrl-C. Exit codes: 0
+stopped, 1 a port is taken or Zenoh is unreachable, 2 bad arguments or plan.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
+from pathlib import Path
 
 import cv2
 import numpy as np
@@ -21,8 +24,12 @@ import numpy as np
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
 from comms.zenoh_session import ZenohOpenError, ZenohSession
-from gcs.scenario import Scenario, ScenarioError, load_scenario
+from mission_plan.plan_files import PlanFileError, read_plan
+from mission_plan.plans import FleetPlan, fleet_plan
+from mission_plan.scenario_files import load_scenario
+from mission_plan.table_fields import ScenarioError
 from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.dynamics_params import px4_params
 from mock_autopilot.faults import FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet, FleetTruth
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth, camera_users
@@ -32,22 +39,24 @@ from mock_autopilot.world.config import flood_model_from_config
 log = logging.getLogger("mock_autopilot.sim_bridge")
 
 
-def vehicle_configs(scenario: Scenario) -> list[VehicleConfig]:
-    """One PX4 per scenario vehicle; the scenario's kinematic limits become the PX4 parameters that set them."""
-    k = scenario.kinematics
-    params = {
-        "MPC_XY_VEL_MAX": k.max_xy_speed_mps,
-        "MPC_Z_VEL_MAX_UP": k.max_climb_speed_mps,
-        "MPC_Z_VEL_MAX_DN": k.max_descent_speed_mps,
-        "MPC_ACC_HOR": k.max_xy_accel_mps2,
-        "MPC_ACC_UP_MAX": k.max_z_accel_mps2,
-        "MIS_TAKEOFF_ALT": scenario.altitude_m,
-    }
+def vehicle_configs(plan: FleetPlan) -> list[VehicleConfig]:
+    """One PX4 per planned vehicle; the plan's dynamics become the PX4 parameters that set them (and the plant's
+    response time, which is not a PX4 parameter)."""
+    params = px4_params(plan.kinematics, plan.altitude_m)
     return [
-        VehicleConfig(instance=i, has_gps=v.has_gps, pad_enu_m=v.pad_enu_m, home=scenario.home, params=params,
-                      system_id=v.vehicle_id)
-        for i, v in enumerate(scenario.vehicles)
+        VehicleConfig(instance=i, has_gps=v.has_gps, pad_enu_m=v.pad_enu_m, home=plan.home, params=params,
+                      response_time_s=plan.kinematics.response_time_s, system_id=v.vehicle_id)
+        for i, v in enumerate(plan.vehicles)
     ]
+
+
+def load_fleet_plan(plan_path: Path | None, scenario: str | None, overrides: Sequence[str]) -> FleetPlan:
+    """The ``--plan`` file, or the ``--scenario`` (default circle) resolved locally through mission_plan."""
+    if plan_path is not None:
+        if scenario is not None or overrides:
+            raise ScenarioError("--plan: the plan is already resolved; --scenario and --set apply without it")
+        return read_plan(plan_path, FleetPlan)
+    return fleet_plan(load_scenario(scenario or "circle", overrides))
 
 
 def vehicle_truths(truth: FleetTruth) -> list[VehicleTruth]:
@@ -71,14 +80,16 @@ def setpoint_ages(fleet: Fleet, truth: FleetTruth, now_s: float) -> list[float]:
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m mock_autopilot.sim_bridge",
-                                description="A scenario's mock PX4 fleet with camera frames and truth over Zenoh.")
-    p.add_argument("--scenario", default="circle")
-    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
-    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
+                                description="A planned mock PX4 fleet with camera frames and truth over Zenoh.")
+    p.add_argument("--plan", type=Path, metavar="FILE", help="the fleet plan (JSON) the ground station wrote")
+    p.add_argument("--scenario", help="without --plan: bundled scenario name or TOML path (default circle)")
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE",
+                   help="with --scenario: override a scenario parameter")
+    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the plan's)")
     p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall second")
     p.add_argument("--base-port", type=int, default=14540)
     p.add_argument("--gcs-port", type=int, default=14550)
-    p.add_argument("--camera-hz", type=float, help="camera frame rate in mission time (default: the scenario's [camera] rate_hz)")
+    p.add_argument("--camera-hz", type=float, help="camera frame rate in mission time (default: the plan's camera rate)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
     p.add_argument("--cameras", choices=("boundary", "all", "none"), default="boundary",
                    help="whose camera this process streams: the boundary drones (the only law that uses images), "
@@ -94,28 +105,30 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        scenario = load_scenario(args.scenario, args.overrides)
-        mission = validate_mission(args.mission or scenario.name)
+        plan = load_fleet_plan(args.plan, args.scenario, args.overrides)
+        mission = validate_mission(args.mission or plan.mission)
         zenoh = zenoh_config_from_args(args)
         faults = [parse_fault(text) for text in args.fault]
         if not args.speed > 0:
             raise ValueError(f"--speed {args.speed}: must be > 0")
-        camera_hz = args.camera_hz or scenario.camera.rate_hz
-        truth_hz = args.truth_hz or scenario.control_rate_hz
+        camera_hz = args.camera_hz or plan.camera.rate_hz
+        truth_hz = args.truth_hz or plan.control_rate_hz
         if not (camera_hz > 0 and truth_hz > 0):
             raise ValueError("--camera-hz and --truth-hz must be > 0")
-        flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
-    except (ScenarioError, KeyNameError, FaultSpecError, ValueError) as exc:
+        world = plan.world
+        flood = (None if args.cameras == "none"
+                 else flood_model_from_config(world.flood, seed=world.seed, base_dir=world.source_dir))
+    except (ScenarioError, PlanFileError, KeyNameError, FaultSpecError, ValueError) as exc:
         print(f"sim_bridge: {exc}", file=sys.stderr)
         return 2
-    camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
+    camera = CameraModel(plan.camera.width_px, plan.camera.height_px, plan.camera.fov_deg)
     # OpenCV parallelises each remap over its own thread pool; on a machine already saturated by the agents, every
     # frame then waits for pool threads that are not scheduled (measured: 15 ms wall for 3 ms of CPU per frame).
     cv2.setNumThreads(1)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())
-    fleet = Fleet(vehicle_configs(scenario), base_port=args.base_port, gcs_port=args.gcs_port, speed=args.speed,
+    fleet = Fleet(vehicle_configs(plan), base_port=args.base_port, gcs_port=args.gcs_port, speed=args.speed,
                   faults=faults)
     try:
         fleet.start()
@@ -130,14 +143,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 1
         with session:
             streamer = None
-            if args.cameras != "none":
+            if flood is not None:
                 streamer = CameraStreamer(
-                    session, mission, flood, camera, scenario.seed, 1.0 / camera_hz,
-                    camera_users({v.vehicle_id: v.role for v in scenario.vehicles}, args.cameras),
+                    session, mission, flood, camera, plan.seed, 1.0 / camera_hz,
+                    camera_users({v.vehicle_id: v.role for v in plan.vehicles}, args.cameras),
                     on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
             bridge = SimBridge(session, mission, 1.0 / truth_hz, streamer)
             log.info("fleet of %d vehicles up (speed x%g), bridge publishing on floodwatch/%s",
-                     len(scenario.vehicles), args.speed, mission)
+                     len(plan.vehicles), args.speed, mission)
             setpoint_ages_s: list[float] = []
             while not stop.is_set():
                 now_s = fleet.clock.now_s()

@@ -1,9 +1,12 @@
-"""``python -m mock_autopilot.sim_bridge.cameras --scenario circle``: the camera streams in a process of their own.
+"""``python -m mock_autopilot.sim_bridge.cameras --plan cameras.json``: the camera streams in a process of their own.
 
 Fed by the ground truth the fleet's process publishes, it renders each streaming vehicle's downward camera at the
 camera rate and publishes the frames (see :class:`mock_autopilot.sim_bridge.bridge.CameraStreamer`). Keeping the
 renderer out of the fleet's process gives it its own CPU share and interpreter lock: in one process, the fleet's
-MAVLink thread and the renderer slowed each other down (docs/BENCHMARKS.md, Mission). Runs until SIGTERM / Ctrl-C.
+MAVLink thread and the renderer slowed each other down (docs/BENCHMARKS.md, Mission). The cameras plan (the
+ground station writes ``<run>/plan/cameras.json``) gives the flood table, seed, DEM folder, camera and each
+vehicle's role; ``--scenario NAME`` resolves a scenario locally through ``mission_plan`` (not for "auto" pads).
+Runs until SIGTERM / Ctrl-C.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
+from pathlib import Path
 
 import cv2
 
@@ -21,7 +25,10 @@ from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, MissionKeys, validate_mission
 from comms.messages import GroundTruth, decode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
-from gcs.scenario import ScenarioError, load_scenario
+from mission_plan.plan_files import PlanFileError, read_plan
+from mission_plan.plans import CamerasPlan, cameras_plan
+from mission_plan.scenario_files import load_scenario
+from mission_plan.table_fields import ScenarioError
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, camera_users, vehicles_from_truth
 from mock_autopilot.world.config import flood_model_from_config
@@ -32,32 +39,43 @@ log = logging.getLogger("mock_autopilot.sim_bridge.cameras")
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m mock_autopilot.sim_bridge.cameras",
                                 description="Render and stream the vehicles' camera frames from published truth.")
-    p.add_argument("--scenario", default="circle")
-    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
-    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
-    p.add_argument("--camera-hz", type=float, help="frame rate in mission time (default: the scenario's [camera] rate_hz)")
+    p.add_argument("--plan", type=Path, metavar="FILE", help="the cameras plan (JSON) the ground station wrote")
+    p.add_argument("--scenario", help="without --plan: bundled scenario name or TOML path (default circle)")
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE",
+                   help="with --scenario: override a scenario parameter")
+    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the plan's)")
+    p.add_argument("--camera-hz", type=float, help="frame rate in mission time (default: the plan's camera rate)")
     p.add_argument("--cameras", choices=("boundary", "all"), default="boundary")
     p.add_argument("--log-level", default="INFO")
     add_zenoh_arguments(p)
     return p
 
 
+def load_cameras_plan(plan_path: Path | None, scenario: str | None, overrides: Sequence[str]) -> CamerasPlan:
+    """The ``--plan`` file, or the ``--scenario`` (default circle) resolved locally through mission_plan."""
+    if plan_path is not None:
+        if scenario is not None or overrides:
+            raise ScenarioError("--plan: the plan is already resolved; --scenario and --set apply without it")
+        return read_plan(plan_path, CamerasPlan)
+    return cameras_plan(load_scenario(scenario or "circle", overrides))
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        scenario = load_scenario(args.scenario, args.overrides)
-        mission = validate_mission(args.mission or scenario.name)
+        plan = load_cameras_plan(args.plan, args.scenario, args.overrides)
+        mission = validate_mission(args.mission or plan.mission)
         zenoh = zenoh_config_from_args(args)
-        camera_hz = args.camera_hz or scenario.camera.rate_hz
+        camera_hz = args.camera_hz or plan.camera.rate_hz
         if not camera_hz > 0:
             raise ValueError("--camera-hz must be > 0")
-        flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
-    except (ScenarioError, KeyNameError, ValueError) as exc:
+        flood = flood_model_from_config(plan.world.flood, seed=plan.world.seed, base_dir=plan.world.source_dir)
+    except (ScenarioError, PlanFileError, KeyNameError, ValueError) as exc:
         print(f"cameras: {exc}", file=sys.stderr)
         return 2
     cv2.setNumThreads(1)  # one frame at a time on a busy machine; OpenCV's pool only adds waiting
-    camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
+    camera = CameraModel(plan.camera.width_px, plan.camera.height_px, plan.camera.fov_deg)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())
@@ -70,8 +88,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         keys = MissionKeys(mission)
         truth_buf = session.subscribe(keys.truth)
         session.declare_alive(keys.alive("cameras"))
-        streamer = CameraStreamer(session, mission, flood, camera, scenario.seed, 1.0 / camera_hz,
-                                  camera_users({v.vehicle_id: v.role for v in scenario.vehicles}, args.cameras),
+        streamer = CameraStreamer(session, mission, flood, camera, plan.world.seed, 1.0 / camera_hz,
+                                  camera_users(plan.roles, args.cameras),
                                   on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
         latest_t_s = -1.0
         while not stop.is_set():

@@ -20,6 +20,8 @@ from comms.keys import MissionKeys
 from comms.messages import FLAG_OFFBOARD, MissionCommand, NeighbourState, decode, encode
 from comms.zenoh_session import ZenohConfig, ZenohSession
 from gcs.scenario import load_scenario
+from mission_plan.plan_files import write_plan
+from mission_plan.plans import agent_plan, fleet_plan
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.fleet import Fleet
 from mock_autopilot.sim_bridge.__main__ import vehicle_configs, vehicle_truths
@@ -31,10 +33,9 @@ REPO = Path(__file__).resolve().parents[2]
 SPEED = 2.0
 
 
-def _start_agent(vehicle_id: int, base_port: int, hub: str, mission: str, log: Path) -> subprocess.Popen[bytes]:
-    args = [sys.executable, "-m", "vehicle_agents", "--id", str(vehicle_id), "--scenario", "circle", "--mode", "improved",
-            "--mavlink", f"udpin://0.0.0.0:{base_port + vehicle_id - 1}", "--mission", mission, "--speed", str(SPEED),
-            "--connect", hub]
+def _start_agent(plan: Path, vehicle_id: int, base_port: int, hub: str, log: Path) -> subprocess.Popen[bytes]:
+    args = [sys.executable, "-m", "vehicle_agents", "--plan", str(plan),
+            "--mavlink", f"udpin://0.0.0.0:{base_port + vehicle_id - 1}", "--speed", str(SPEED), "--connect", hub]
     return subprocess.Popen(args, cwd=REPO, stdout=log.open("wb"), stderr=subprocess.STDOUT, start_new_session=True)
 
 
@@ -66,13 +67,14 @@ def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(tmp_path:
     keys = MissionKeys(mission)
     flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
     camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
-    configs = vehicle_configs(scenario)[:1]
+    configs = vehicle_configs(fleet_plan(scenario, mission))[:1]
+    plan = write_plan(tmp_path / "agent_1.json", agent_plan(scenario, 1, "improved", mission))
     with Fleet(configs, base_port=base, gcs_port=25850, speed=SPEED) as fleet, \
             ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
         states = hub.subscribe(keys.state(1))
         alive = hub.subscribe_alive(keys.alive(1))
         bridge = SimBridge(hub, mission, 0.1, CameraStreamer(hub, mission, flood, camera, scenario.seed, 0.1))
-        agent = _start_agent(1, base, hub_ep, mission, tmp_path / "agent_1.log")
+        agent = _start_agent(plan, 1, base, hub_ep, tmp_path / "agent_1.log")
         try:
             pump = lambda: bridge.tick(fleet.clock.now_s(), vehicle_truths(fleet.truth()))  # noqa: E731
             hovering = _wait_state(states, 1, lambda m: m.has(FLAG_OFFBOARD) and m.altitude_m > 8.0, 60.0, pump)

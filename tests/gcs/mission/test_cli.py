@@ -35,6 +35,27 @@ def test_bad_input_prints_one_line_and_exits_2(argv: list[str], needle: str, cap
     assert needle in err and len(err.splitlines()) == 1
 
 
+def test_unknown_key_in_a_toml_file_stops_both_engines_before_anything_starts(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from gcs.scenario import SCENARIO_DIR
+
+    path = tmp_path / "typo.toml"
+    path.write_text((SCENARIO_DIR / "circle.toml").read_text().replace("range_m = 25.0", "rang_m = 25.0"))
+    for engine in ("processes", "lockstep"):
+        out = tmp_path / f"run-{engine}"
+        assert main([str(path), "--engine", engine, "--out", str(out), "--no-live"]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err == "gcs.mission: radio.rang_m: unknown key (did you mean radio.range_m?)"
+        assert not out.exists(), "nothing may start or be written"
+
+
+def test_seed_is_applied_before_resolution() -> None:
+    from gcs.mission.cli import resolve_scenario
+
+    scenario = resolve_scenario(parse_options(["terrain", "--seed", "9", "--duration", "7"]))
+    assert scenario.seed == 9 and scenario.duration_s == 7.0
+
+
 def test_options_and_default_out_dir() -> None:
     opts = parse_options(["circle", "--engine", "lockstep", "--mode", "improved", "--seed", "7", "--duration", "5",
                           "--set", "radio.loss=0.1", "--set", "flood.radius_end_m=18"])

@@ -89,6 +89,20 @@ def test_bad_tables_name_the_field(table: dict, field: str) -> None:
     assert isinstance(info.value, ValueError)
 
 
+@pytest.mark.parametrize(("table", "message"), [
+    ({"model": "circle", "radius_ends_m": 20}, "flood.radius_ends_m: unknown key for model 'circle' "
+                                               "(did you mean flood.radius_end_m?)"),
+    ({"model": "drift", "velocity_mps": [1, 0]}, "flood.velocity_mps: unknown key for model 'drift' "
+                                                "(did you mean flood.velocity_en_mps?)"),
+    ({"model": "circle", "nonsense": 3}, "flood.nonsense: unknown key for model 'circle' (known: center_en_m, "
+                                         "growth_duration_s, model, radius_end_m, radius_start_m)"),
+])
+def test_unknown_keys_name_the_closest_known_key(table: dict, message: str) -> None:
+    with pytest.raises(FloodConfigError) as info:
+        flood_model_from_config(table)
+    assert str(info.value) == message
+
+
 def test_not_a_table() -> None:
     with pytest.raises(FloodConfigError, match=r"^flood: must be a table"):
         flood_model_from_config(["circle"])  # type: ignore[arg-type]

@@ -1,0 +1,66 @@
+"""``python -m gcs.plan SCENARIO --out DIR [--set KEY=VALUE] [--mode M] [--seed S] [--mission NAME]``.
+
+Resolves a scenario as the ground station does (defaults, overrides, seed, "auto" launch pads with the flood
+model; the flood table is checked too) and writes its plan files to DIR: ``agent_<id>.json`` for each drone's
+companion computer (``python -m vehicle_agents --plan``), ``fleet.json`` (``python -m mock_autopilot.sim_bridge
+--plan``) and ``cameras.json`` (``python -m mock_autopilot.sim_bridge.cameras --plan``). Bad input prints one line
+and exits with 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from comms.keys import KeyNameError, validate_mission
+from gcs.plan.files import write_plans
+from gcs.scenario import ScenarioError, check_flood, load_scenario
+from mission_plan.control_params import MODES
+
+EXIT_USAGE = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        print(f"gcs.plan: {message}", file=sys.stderr)
+        raise SystemExit(EXIT_USAGE)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="python -m gcs.plan", description="Write a scenario's plan files for deployment.")
+    p.add_argument("scenario", help="bundled scenario name (circle, ellipse, ...) or path to a .toml file")
+    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder for the plan files")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scenario parameter (repeatable)")
+    p.add_argument("--mode", choices=MODES, default="improved", help="control laws (default improved)")
+    p.add_argument("--seed", type=int, default=None, help="mission seed (default: the scenario's)")
+    p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Resolve, check and write; returns the exit code."""
+    args = build_parser().parse_args(argv)
+    overrides = [*args.overrides, *([f"seed={args.seed}"] if args.seed is not None else [])]
+    try:
+        scenario = load_scenario(args.scenario, overrides)
+        check_flood(scenario)
+        mission = validate_mission(args.mission or scenario.name)
+        paths = write_plans(scenario, args.mode, args.out, mission)
+    except (ScenarioError, KeyNameError) as exc:
+        print(f"gcs.plan: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:
+        print(f"gcs.plan: --out {args.out}: cannot write ({exc.strerror or exc})", file=sys.stderr)
+        return EXIT_USAGE
+    print(f"{scenario.name} ({args.mode}, seed {scenario.seed}): {len(paths.agents)} agent plans, "
+          f"{paths.fleet.name} and {paths.cameras.name} in {paths.folder}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
