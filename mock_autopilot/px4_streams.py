@@ -3,7 +3,9 @@
 PX4 runs its onboard/API link (14540+i, MAVSDK) in "onboard" mode and its GCS link (14550) in "normal" mode,
 with the rates below (PX4_INTERFACE.md, src/modules/mavlink/mavlink_main.cpp). The ``reduced`` profile keeps
 what MAVSDK's telemetry health and an offboard controller need, at rates that let one process host many vehicles
-(numbers in docs/BENCHMARKS.md). SET_MESSAGE_INTERVAL overrides a rate per link at run time.
+(numbers in docs/BENCHMARKS.md). ``minimal`` sends only the 1 Hz heartbeat PX4 never switches off: for an
+in-process owner that reads the vehicle's state directly (``mock_autopilot/backends/px4.py``), where building
+telemetry nobody decodes is wasted CPU. SET_MESSAGE_INTERVAL overrides a rate per link at run time.
 """
 
 from __future__ import annotations
@@ -72,6 +74,10 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "VFR_HUD": 1.0,
             "BATTERY_STATUS": 0.5,
         },
+    },
+    "minimal": {
+        ONBOARD: {"HEARTBEAT": 1.0},
+        GCS: {"HEARTBEAT": 1.0},
     },
 }
 

@@ -632,7 +632,11 @@ class Vehicle:
         return float(self.position_ned_m[2]) >= -GROUND_TOLERANCE_M
 
     def _limits(self) -> KinematicLimits:
-        """PX4 velocity-controller limits from the parameters, rebuilt only when a parameter changed."""
+        """PX4 velocity-controller limits from the parameters, rebuilt only when a parameter changed.
+
+        The response time is the plant's (``VehicleConfig.response_time_s``), not a parameter: the same value the
+        lockstep kinematics read, so both engines fly the same first-order velocity response.
+        """
         if self._limits_version != self.params.version:
             self._limits_version = self.params.version
             self._limits_cache = KinematicLimits(
@@ -641,6 +645,7 @@ class Vehicle:
                 max_descent_speed_mps=max(self.params["MPC_Z_VEL_MAX_DN"], self.params["MPC_LAND_SPEED"]),
                 max_xy_accel_mps2=self.params["MPC_ACC_HOR"],
                 max_z_accel_mps2=self.params["MPC_ACC_UP_MAX"],
+                response_time_s=self.config.response_time_s,
             )
         return self._limits_cache
 
@@ -702,7 +707,8 @@ class Vehicle:
             if sp is None or not self.offboard_fresh(t):
                 return self._goto(self._hold_ned, self._cruise(), up, down), nan, 0.0
             command = velocity_command_ned(
-                sp, self.position_ned_m, self.velocity_ned_mps, self.params["MPC_XY_P"], self.params["MPC_Z_P"], 0.3
+                sp, self.position_ned_m, self.velocity_ned_mps, self.params["MPC_XY_P"], self.params["MPC_Z_P"],
+                self.config.response_time_s,
             )
             if self._on_ground() and command[2] > 0.0:
                 command[2] = 0.0
