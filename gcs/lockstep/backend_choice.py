@@ -12,7 +12,6 @@ from enum import Enum
 from gcs.scenario import Scenario
 from mock_autopilot.backends.interface import VehicleBackend
 from mock_autopilot.backends.kinematic import KinematicBackend
-from mock_autopilot.dynamics_params import px4_params
 
 
 class BackendKind(Enum):
@@ -28,13 +27,8 @@ def make_backend(kind: BackendKind, scenario: Scenario) -> VehicleBackend:
     """The scenario's vehicles on the chosen backend; both read the scenario's ``[kinematics]`` (response time too)."""
     limits = scenario.kinematics
     if kind is BackendKind.PX4:
-        from mock_autopilot.backends.px4 import Px4Backend
-        from mock_autopilot.vehicle import VehicleConfig
+        from mock_autopilot.backends.px4 import Px4Backend, px4_vehicle_configs
 
-        params = px4_params(limits, scenario.altitude_m)
-        return Px4Backend([
-            VehicleConfig(instance=i, has_gps=v.has_gps, pad_enu_m=v.pad_enu_m, home=scenario.home, params=params,
-                          system_id=v.vehicle_id, response_time_s=limits.response_time_s)
-            for i, v in enumerate(scenario.vehicles)
-        ])
+        return Px4Backend(px4_vehicle_configs(limits, scenario.altitude_m, [v.pad_enu_m for v in scenario.vehicles],
+                                              has_gps=[v.has_gps for v in scenario.vehicles], home=scenario.home))
     return KinematicBackend(limits, len(scenario.vehicles))
