@@ -32,7 +32,8 @@ __all__ = [
 ]
 
 
-def auto_launch(fleet: Mapping[str, Any], flood_table: Mapping[str, Any], seed: int, source_dir: Path) -> dict[str, Any]:
+def auto_launch(fleet: Mapping[str, Any], flood_table: Mapping[str, Any], seed: int,
+                source_dir: Path) -> dict[str, Any]:
     """``launch_en_m = "auto"``: the launch site just outside the flood's edge at t = 0, along ``launch_bearing_deg``.
 
     Takes the initial boundary point furthest along the bearing (counter-clockwise from east) from the flood's
@@ -59,7 +60,8 @@ def auto_launch(fleet: Mapping[str, Any], flood_table: Mapping[str, Any], seed: 
     return table
 
 
-def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", source_dir: Path = SCENARIO_DIR) -> Scenario:
+def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario",
+                        source_dir: Path = SCENARIO_DIR) -> Scenario:
     """Validate a parsed scenario table, resolving "auto" launch pads with the flood model."""
     return plan_scenario_from_table(raw, default_name, source_dir, resolve_launch=auto_launch)
 

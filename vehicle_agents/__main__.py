@@ -105,7 +105,8 @@ def config_from_args(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
     """The agent's configuration, its mission name in the Zenoh keys and its autopilot URL; raises on bad input."""
     plan = load_agent_plan(args)
     if args.role is not None and args.role != plan.vehicle.role:
-        raise ScenarioError(f"--role {args.role}: the plan has vehicle {plan.vehicle.vehicle_id} as {plan.vehicle.role}")
+        vehicle = plan.vehicle
+        raise ScenarioError(f"--role {args.role}: the plan has vehicle {vehicle.vehicle_id} as {vehicle.role}")
     config = agent_config(plan, rate_hz=args.rate_hz, speed=args.speed, connect_timeout_s=args.connect_timeout,
                           link_timeout_s=args.link_timeout)
     mission = validate_mission(args.mission or plan.mission)

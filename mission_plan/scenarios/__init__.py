@@ -1,4 +1,4 @@
-"""The bundled scenarios (``circle``, ``ellipse``, ``nonconvex``, ``drift``, ``terrain``, ``large``): TOML files here."""
+"""The bundled scenarios: ``circle``, ``ellipse``, ``nonconvex``, ``drift``, ``terrain``, ``large`` (TOML files)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""``python -m mock_autopilot.sim_bridge --plan fleet.json`` (or ``--scenario circle``): the mock PX4 fleet plus its bridge.
+"""``python -m mock_autopilot.sim_bridge --plan fleet.json`` (or ``--scenario circle``): the mock PX4 fleet, bridged.
 
 Starts one simulated PX4 per planned vehicle (pads, GPS, home, velocity limits and response time from the fleet
 plan; system id = vehicle id; onboard link to ``--base-port + i``, GCS link to ``--gcs-port``) and, in the same
@@ -89,7 +89,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall second")
     p.add_argument("--base-port", type=int, default=14540)
     p.add_argument("--gcs-port", type=int, default=14550)
-    p.add_argument("--camera-hz", type=float, help="camera frame rate in mission time (default: the plan's camera rate)")
+    p.add_argument("--camera-hz", type=float,
+                   help="camera frame rate in mission time (default: the plan's camera rate)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
     p.add_argument("--cameras", choices=("boundary", "all", "none"), default="boundary",
                    help="whose camera this process streams: the boundary drones (the only law that uses images), "
