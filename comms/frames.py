@@ -36,6 +36,12 @@ def ned_to_enu(vector_ned: ArrayLike) -> NDArray[np.float64]:
     return np.stack([v[..., 1], v[..., 0], -v[..., 2]], axis=-1)
 
 
+def swap_ned_enu(x: float, y: float, z: float) -> tuple[float, float, float]:
+    """One vector swapped between NED and ENU (either way: the map is its own inverse) as plain floats: the per-drone
+    hot path of every control step, where numpy on a 3-vector costs more than the arithmetic."""
+    return float(y), float(x), -float(z)
+
+
 def local_ned_to_mission_enu(position_ned_m: ArrayLike, pad_enu_m: ArrayLike) -> NDArray[np.float64]:
     """A vehicle's local NED position (origin at its pad) expressed in the mission ENU frame."""
     return ned_to_enu(position_ned_m) + np.asarray(pad_enu_m, dtype=float)

@@ -143,8 +143,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from vehicle_agents.swarm_link_zenoh import ZenohSwarmLink
 
     try:
-        swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio",
-                               period_s=1.0 / config.control_rate_hz)
+        swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio")
     except ZenohOpenError as exc:
         print(f"vehicle_agents: vehicle {config.vehicle_id}: {exc}", file=sys.stderr)
         return EXIT_START_FAILED

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.frames import enu_to_ned, local_ned_to_mission_enu, ned_to_enu
+from comms.frames import swap_ned_enu
 from comms.messages import (
     FLAG_AIRBORNE,
     FLAG_ARMED,
@@ -37,13 +37,12 @@ EDGE_POINTS_PER_MESSAGE = 24
 
 def own_state(tel: AutopilotTelemetry, pad_enu_m: Sequence[float], has_gps: bool) -> OwnState:
     """The drone's own state in the mission frame from its autopilot's local NED odometry and its pad offset."""
-    pad = np.array([pad_enu_m[0], pad_enu_m[1], 0.0])
-    position_enu_m = local_ned_to_mission_enu(np.array(tel.position_ned_m, dtype=float), pad)
-    velocity_enu_mps = ned_to_enu(np.array(tel.velocity_ned_mps, dtype=float))
+    east_m, north_m, up_m = swap_ned_enu(*tel.position_ned_m)
+    east_mps, north_mps, _ = swap_ned_enu(*tel.velocity_ned_mps)
     return OwnState(
-        position_en_m=position_enu_m[:2].copy(),
-        altitude_m=float(position_enu_m[2]),
-        velocity_en_mps=velocity_enu_mps[:2].copy(),
+        position_en_m=np.array([pad_enu_m[0] + east_m, pad_enu_m[1] + north_m]),
+        altitude_m=up_m,
+        velocity_en_mps=np.array([east_mps, north_mps]),
         has_gps=has_gps,
     )
 
@@ -82,9 +81,9 @@ def neighbour_infos(
 
 def velocity_ned(command: VelocityCommand) -> tuple[float, float, float]:
     """The control law's ENU velocity as the NED setpoint PX4 flies (non-finite components become 0)."""
-    v = np.nan_to_num(np.asarray(command.velocity_enu_mps, dtype=float), nan=0.0, posinf=0.0, neginf=0.0)
-    north, east, down = enu_to_ned(v)
-    return float(north), float(east), float(down)
+    v = command.velocity_enu_mps
+    ned = swap_ned_enu(v[0], v[1], v[2])
+    return tuple(c if math.isfinite(c) else 0.0 for c in ned)  # type: ignore[return-value]
 
 
 def edge_points_for_radio(edge_points_en_m: NDArray[np.float64]) -> list[tuple[float, float]]:

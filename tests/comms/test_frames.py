@@ -45,3 +45,11 @@ def test_yaw_conversions() -> None:
     assert math.isclose(yaw_ned_to_enu_rad(math.pi / 2), 0.0, abs_tol=1e-12)  # facing east
     for h in np.linspace(-3.0, 3.0, 7):
         assert math.isclose(math.remainder(yaw_ned_to_enu_rad(yaw_enu_to_ned_rad(h)) - h, 2 * math.pi), 0.0, abs_tol=1e-12)
+
+
+def test_the_scalar_swap_agrees_with_the_array_conversions() -> None:
+    from comms.frames import enu_to_ned, ned_to_enu, swap_ned_enu
+
+    v = (1.5, -2.0, 3.25)
+    assert swap_ned_enu(*v) == tuple(ned_to_enu(v)) == tuple(enu_to_ned(v))
+    assert swap_ned_enu(*swap_ned_enu(*v)) == v
