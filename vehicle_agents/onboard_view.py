@@ -92,7 +92,7 @@ def edge_points_for_radio(edge_points_en_m: NDArray[np.float64]) -> list[tuple[f
     points = points[np.all(np.isfinite(points), axis=1)]
     if len(points) > EDGE_POINTS_PER_MESSAGE:
         points = points[np.linspace(0, len(points) - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)]
-    return [(float(x), float(y)) for x, y in points[:MAX_EDGE_POINTS]]
+    return list(map(tuple, points[:MAX_EDGE_POINTS].tolist()))
 
 
 def state_message(

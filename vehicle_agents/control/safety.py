@@ -112,6 +112,36 @@ def safety_filter(
     diff = others - np.asarray(own_en_m, dtype=float)[None, :]
     dist = np.hypot(diff[:, 0], diff[:, 1])
     close = [int(k) for k in np.argsort(-dist) if 1e-9 < dist[k] < radius_m]
+    if not close:
+        return v
+    # The projections run on plain floats: each is a handful of multiplications on 2-vectors, where numpy's
+    # per-call overhead would cost more than the arithmetic (every drone runs this at every control step).
+    east, north = diff[:, 0].tolist(), diff[:, 1].tolist()
+    distance = dist.tolist()
+    heard_v = None if others_velocity_en_mps is None else np.asarray(others_velocity_en_mps, dtype=float).tolist()
+    constraints = []
+    for k in close:
+        x = distance[k]
+        ux, uy = east[k] / x, north[k] / x
+        gap_m = x - min_distance_m
+        allowed = closing_rate_per_s * gap_m
+        if braking_mps2 > 0.0 and gap_m > 0.0:
+            allowed = min(allowed, stopping_speed_mps(gap_m, braking_mps2, reaction_s))
+        if heard_v is not None:
+            allowed += heard_v[k][0] * ux + heard_v[k][1] * uy
+        constraints.append((ux, uy, allowed))
+    vx, vy = float(v[0]), float(v[1])
+    for _ in range(_PASSES if len(close) > 1 else 1):
+        for ux, uy, allowed in constraints:
+            along = vx * ux + vy * uy
+            if along > allowed:
+                vx -= (along - allowed) * ux
+                vy -= (along - allowed) * uy
+    v[0], v[1] = vx, vy
+    return v
+    diff = others - np.asarray(own_en_m, dtype=float)[None, :]
+    dist = np.hypot(diff[:, 0], diff[:, 1])
+    close = [int(k) for k in np.argsort(-dist) if 1e-9 < dist[k] < radius_m]
     for _ in range(_PASSES if len(close) > 1 else 1):
         for k in close:
             x = float(dist[k])
