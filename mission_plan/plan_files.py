@@ -7,6 +7,7 @@ Every failure is one line, :class:`PlanFileError`, for the caller to print befor
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -14,6 +15,9 @@ import msgspec
 import msgspec.inspect as mi
 
 from mission_plan.plans import PLAN_TAG_FIELD, AgentPlan, CamerasPlan, FleetPlan
+from mission_plan.scenario_files import load_scenario
+from mission_plan.scenario_schema import Scenario
+from mission_plan.table_fields import ScenarioError
 from mission_plan.unknown_keys import dotted, first_unknown, unknown_key_message
 
 Plan = TypeVar("Plan", AgentPlan, FleetPlan, CamerasPlan)
@@ -92,3 +96,15 @@ def read_plan(path: Path, plan_type: type[Plan]) -> Plan:
         return decode_plan(data, plan_type)
     except PlanFileError as exc:
         raise PlanFileError(f"plan {path}: {exc}") from None
+
+
+def plan_or_scenario(plan_path: Path | None, scenario: str | None, overrides: Sequence[str], plan_type: type[Plan],
+                     slice_of: Callable[[Scenario], Plan]) -> Plan:
+    """A process's plan: its ``--plan`` file, or ``--scenario`` (default circle, with ``--set``) resolved locally
+    through this package and sliced by ``slice_of`` (a scenario whose pads are "auto" then fails: it needs the
+    flood model, which only the ground station resolves)."""
+    if plan_path is not None:
+        if scenario is not None or overrides:
+            raise ScenarioError("--plan: the plan is already resolved; --scenario and --set apply without it")
+        return read_plan(plan_path, plan_type)
+    return slice_of(load_scenario(scenario or "circle", overrides))

@@ -70,15 +70,21 @@ def px4_vehicle_configs(
     has_gps: Sequence[bool] | None = None,
     home: GeodeticHome | None = None,
     params: Mapping[str, float] | None = None,
+    system_ids: Sequence[int] | None = None,
+    stream_profile: str = STREAM_PROFILE,
 ) -> list[VehicleConfig]:
     """One :class:`VehicleConfig` per pad [m; (N,3) or (N,2) mission ENU], with the plan's dynamics as PX4 reads
     them: MPC_* from ``limits`` (:func:`mock_autopilot.dynamics_params.px4_params`) and the plant's
-    ``response_time_s``; ``params`` overrides or adds PX4 parameters (e.g. COM_OBL_RC_ACT)."""
+    ``response_time_s``; ``params`` overrides or adds PX4 parameters (e.g. COM_OBL_RC_ACT). ``system_ids`` default
+    to PX4 SITL's instance + 1; ``stream_profile`` to this backend's minimal one (the fleet process streams
+    telemetry to real clients and passes its own)."""
     pads = np.asarray(pads_enu_m, dtype=float)
     pads = pads.reshape(len(pads), -1)
     gps = [True] * len(pads) if has_gps is None else list(has_gps)
     if len(gps) != len(pads):
         raise ValueError(f"has_gps: expected {len(pads)} flags, got {len(gps)}")
+    if system_ids is not None and len(system_ids) != len(pads):
+        raise ValueError(f"system_ids: expected {len(pads)} ids, got {len(system_ids)}")
     merged = {**px4_params(limits, takeoff_altitude_m), **dict(params or {})}
     return [
         VehicleConfig(
@@ -88,7 +94,8 @@ def px4_vehicle_configs(
             home=home if home is not None else GeodeticHome(),
             params=merged,
             response_time_s=limits.response_time_s,
-            stream_profile=STREAM_PROFILE,
+            stream_profile=stream_profile,
+            system_id=None if system_ids is None else int(system_ids[i]),
         )
         for i, pad in enumerate(pads)
     ]

@@ -24,14 +24,14 @@ import numpy as np
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
 from comms.zenoh_session import ZenohOpenError, ZenohSession
-from mission_plan.plan_files import PlanFileError, read_plan
+from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import FleetPlan, fleet_plan
-from mission_plan.scenario_files import load_scenario
 from mission_plan.table_fields import ScenarioError
+from mock_autopilot.backends.px4 import px4_vehicle_configs
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.dynamics_params import px4_params
 from mock_autopilot.faults import FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet, FleetTruth
+from mock_autopilot.px4_streams import DEFAULT_PROFILE
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth, camera_users
 from mock_autopilot.vehicle import VehicleConfig
 from mock_autopilot.world.config import flood_model_from_config
@@ -42,21 +42,14 @@ log = logging.getLogger("mock_autopilot.sim_bridge")
 def vehicle_configs(plan: FleetPlan) -> list[VehicleConfig]:
     """One PX4 per planned vehicle; the plan's dynamics become the PX4 parameters that set them (and the plant's
     response time, which is not a PX4 parameter)."""
-    params = px4_params(plan.kinematics, plan.altitude_m)
-    return [
-        VehicleConfig(instance=i, has_gps=v.has_gps, pad_enu_m=v.pad_enu_m, home=plan.home, params=params,
-                      response_time_s=plan.kinematics.response_time_s, system_id=v.vehicle_id)
-        for i, v in enumerate(plan.vehicles)
-    ]
+    return px4_vehicle_configs(plan.kinematics, plan.altitude_m, [v.pad_enu_m for v in plan.vehicles],
+                               has_gps=[v.has_gps for v in plan.vehicles], home=plan.home,
+                               system_ids=[v.vehicle_id for v in plan.vehicles], stream_profile=DEFAULT_PROFILE)
 
 
 def load_fleet_plan(plan_path: Path | None, scenario: str | None, overrides: Sequence[str]) -> FleetPlan:
     """The ``--plan`` file, or the ``--scenario`` (default circle) resolved locally through mission_plan."""
-    if plan_path is not None:
-        if scenario is not None or overrides:
-            raise ScenarioError("--plan: the plan is already resolved; --scenario and --set apply without it")
-        return read_plan(plan_path, FleetPlan)
-    return fleet_plan(load_scenario(scenario or "circle", overrides))
+    return plan_or_scenario(plan_path, scenario, overrides, FleetPlan, fleet_plan)
 
 
 def vehicle_truths(truth: FleetTruth) -> list[VehicleTruth]:

@@ -25,9 +25,8 @@ from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, MissionKeys, validate_mission
 from comms.messages import GroundTruth, decode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
-from mission_plan.plan_files import PlanFileError, read_plan
+from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import CamerasPlan, cameras_plan
-from mission_plan.scenario_files import load_scenario
 from mission_plan.table_fields import ScenarioError
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, camera_users, vehicles_from_truth
@@ -53,11 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def load_cameras_plan(plan_path: Path | None, scenario: str | None, overrides: Sequence[str]) -> CamerasPlan:
     """The ``--plan`` file, or the ``--scenario`` (default circle) resolved locally through mission_plan."""
-    if plan_path is not None:
-        if scenario is not None or overrides:
-            raise ScenarioError("--plan: the plan is already resolved; --scenario and --set apply without it")
-        return read_plan(plan_path, CamerasPlan)
-    return cameras_plan(load_scenario(scenario or "circle", overrides))
+    return plan_or_scenario(plan_path, scenario, overrides, CamerasPlan, cameras_plan)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
