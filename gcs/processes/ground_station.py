@@ -60,6 +60,14 @@ EXIT_FAILED = 1
 EXIT_INTERRUPTED = 130
 VEHICLE_LOST_AFTER_S = 2.0
 """Wall seconds without a heartbeat on the GCS link before a vehicle is reported lost (SPEC §7: within 2 s)."""
+
+
+def vehicle_lost_after_s(speed: float) -> float:
+    """Heartbeat silence [wall s] that counts as a lost vehicle at simulation speed ``speed``: two heartbeat
+    periods. The mock PX4 beats at 1 Hz of simulated time, so below real time (``--speed`` < 1) its heartbeats
+    come further apart on the wall clock and the bound widens with them; at or above real time it stays at SPEC
+    §7's 2 s."""
+    return VEHICLE_LOST_AFTER_S / min(1.0, speed)
 AGENT_NICENESS = 5
 """Agents run below the simulator's priority (see ``Supervisor.start``)."""
 _AIRBORNE_FRACTION = 0.8
@@ -324,10 +332,11 @@ class GroundStation:
             return
         for vid in self.vehicle_ids:
             watch = watcher.vehicles.get(vid)
-            silent = watch is not None and watch.heartbeat_age_s(now_wall_s) > VEHICLE_LOST_AFTER_S
+            lost_after_s = vehicle_lost_after_s(self.options.speed)
+            silent = watch is not None and watch.heartbeat_age_s(now_wall_s) > lost_after_s
             if silent and vid not in self._silent_vehicles:
                 self._silent_vehicles.add(vid)
-                self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {VEHICLE_LOST_AFTER_S:g} s")
+                self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {lost_after_s:g} s")
                 self._mark_lost(vid)
             elif not silent and vid in self._silent_vehicles:
                 self._silent_vehicles.discard(vid)
