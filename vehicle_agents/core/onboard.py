@@ -6,7 +6,8 @@ The order inside a step is the agent's: decide the flight phase from telemetry a
 (:func:`vehicle_agents.control.step.control_step`: eq 8 + Algorithm 1, eq 9, eq 10), and build the state message
 it broadcasts (:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled there and only there).
 The laws still loop over drones; the interface is arrays in, arrays out, so that it holds when they no longer do.
-A neighbour's message is turned into what the laws read once per step, however many drones heard it.
+A neighbour's message is turned into what the laws read once per step, however many drones heard it, and the laws
+get their neighbours in id order whatever order the radio delivered them in.
 """
 
 from __future__ import annotations
@@ -151,7 +152,9 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         if action is Action.FLY:
             infos = []
-            for msg in heard[i].values():
+            table = heard[i]
+            for sender in sorted(table):
+                msg = table[sender]
                 info = converted.get(id(msg))
                 if info is None:
                     info = converted[id(msg)] = neighbour_info(msg, max(0.0, t_s - msg.t_s))
