@@ -41,7 +41,7 @@ from mock_autopilot.camera.schedule import frame_due, next_frame_due_s
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.types import ROLE_BOUNDARY
+from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_LEADER
 from vehicle_agents.core.onboard import (
     SETPOINT_ACTIONS,
     GroundOrder,
@@ -160,7 +160,7 @@ def run_lockstep(
     state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
     ring_order = params.ring_order()
-    leader_id = next((v.vehicle_id for v in vehicles if v.role == "leader" and v.has_gps), None)
+    leader_id = next((v.vehicle_id for v in vehicles if v.role == ROLE_LEADER and v.has_gps), None)
     gcs_heard: dict[int, NeighbourState] = {}
     max_report_age_s = report_max_age_s(scenario.control_rate_hz)
 
