@@ -1,8 +1,9 @@
 """One simulated PX4 vehicle, sans I/O: ``handle(link, message, now_s)`` and ``tick(now_s)`` return what to send.
 
 The vehicle never touches a socket or a clock: the fleet's UDP links feed it decoded messages with the
-simulated time and send what it returns (h11's shape). Physics is the lead's pure kinematics (paper eqs 1-3 with
-PX4 limits from the parameters); modes, failsafes and timers follow PX4 commander as PX4_INTERFACE.md describes.
+simulated time and send what it returns (h11's shape). Physics is the pure kinematics of
+:mod:`mock_autopilot.kinematics` (paper eqs 1-3 with PX4 limits from the parameters); modes, failsafes and timers
+follow PX4 commander as PX4_INTERFACE.md describes.
 
 Interpretations worth knowing (documented in docs of the package too):
 * Every vehicle has odometry (a flow/vision-like local estimate), so the local position is always valid; GPS

@@ -1,6 +1,6 @@
 """The agent's Zenoh side: its camera frames, the neighbours it hears, ground-station commands, liveliness.
 
-Neighbours come through the comms team's :class:`comms.swarm_link.SwarmLink`: through the radio emulator's inbox in
+Neighbours come through :class:`comms.swarm_link.SwarmLink`: through the radio emulator's inbox in
 simulation (``via_radio=True``: range, loss and delay decided on true positions), or straight from every drone's
 public state key on real hardware where the radio itself limits range (``via_radio=False``). Nothing else changes.
 What arrives is handed to the onboard core as an :class:`~vehicle_agents.core.neighbours.Inbox` (states and

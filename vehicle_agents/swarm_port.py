@@ -1,8 +1,8 @@
 """What the onboard loop needs from the swarm network, as one small interface.
 
-The Zenoh implementation is :class:`vehicle_agents.swarm_link_zenoh.ZenohSwarmLink` (built on the comms team's
-``SwarmLink``). A control step wants the latest camera frame and the latest ground-station command, never a
-backlog; neighbour states arrive as an inbox that the onboard core files into its own table.
+The Zenoh implementation is :class:`vehicle_agents.swarm_link_zenoh.ZenohSwarmLink` (built on
+:class:`comms.swarm_link.SwarmLink`). A control step wants the latest camera frame and the latest ground-station
+command, never a backlog; neighbour states arrive as an inbox that the onboard core files into its own table.
 """
 
 from __future__ import annotations

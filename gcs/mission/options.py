@@ -13,7 +13,7 @@ flies the mock PX4 fleet."""
 
 @dataclass(frozen=True)
 class MissionOptions:
-    """Flags of ``python -m gcs.mission`` (issues 5 and 6).
+    """Flags of ``python -m gcs.mission``.
 
     ``seed`` and ``duration_s`` are already applied to the scenario the engine receives; they are kept here for
     the record. ``speed`` is the simulation speed-up of the process engine (the lockstep engine runs as fast as it

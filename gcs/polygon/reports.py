@@ -3,7 +3,7 @@
 Each boundary drone's state message carries its position (odometry in the mission frame) and the water-edge points
 its camera sees. The drones without GPS know positions only relative to their pads; the GPS leader reports both its
 odometry position and its GPS fix, so the difference between the two is the offset that places the whole swarm's
-odometry frame on the map. The fusion itself is the metrics team's :func:`gcs.polygon.caged.caged_polygon`.
+odometry frame on the map. The fusion itself is :func:`gcs.polygon.caged.caged_polygon`.
 """
 
 from __future__ import annotations

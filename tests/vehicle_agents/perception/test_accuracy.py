@@ -1,4 +1,4 @@
-"""Perception against the renderer's truth over many random poses and every flood model (issue 3's targets:
+"""Perception against the renderer's truth over many random poses and every flood model (the targets:
 water IoU >= 0.97 and midpoint error <= 0.3 m at 10 m on the default camera).
 
 Measured (bench/camera_perception.py --accuracy 300, same pose generator, 300 frames per model, 10 m, 128x128,

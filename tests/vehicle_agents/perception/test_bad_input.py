@@ -1,4 +1,4 @@
-"""Bad input never raises out of ``perceive``: it gives the well-defined no-measurement result (issue 3)."""
+"""Bad input never raises out of ``perceive``: it gives the well-defined no-measurement result."""
 
 from __future__ import annotations
 
