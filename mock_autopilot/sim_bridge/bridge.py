@@ -2,8 +2,8 @@
 
 A real drone's companion computer gets video from its own camera; here the mock fleet owns the world, so this
 bridge renders each airborne vehicle's downward camera (:func:`mock_autopilot.camera.render.render_frame`) from
-the fleet's TRUE state and publishes it on that vehicle's camera key, like a video stream. It also publishes the whole fleet's
-ground truth, which feeds the radio emulator (range is decided on true positions) and the ground station's
+the fleet's TRUE state and publishes it on that vehicle's camera key, like a video stream. It also publishes the
+whole fleet's ground truth, which feeds the radio emulator (range is decided on true positions) and the ground station's
 evaluation. Nothing here is seen by the agents except their own camera frames.
 
 The flood clock (SPEC §4) starts when every vehicle is airborne in OFFBOARD; the ground station sees that on the
