@@ -1,6 +1,6 @@
 """Typed fields read out of a scenario's TOML tables, every failure one line naming the field.
 
-The scenario schema (:mod:`mission_plan.scenario_schema`, :mod:`mission_plan.fleet_layout`) and the ground
+The scenario schema (:mod:`mission_plan.scenario_schema`, :mod:`mission_plan.fleet`) and the ground
 station's resolution (``gcs.scenario``) read their tables through these, so a bad value always reads
 ``where.key: must be ..., got ...`` and an unknown key ``where.key: unknown key (did you mean where.other?)``.
 """

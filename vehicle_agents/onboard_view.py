@@ -8,7 +8,7 @@ them, and every frame change goes through ``comms.frames``.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,20 +63,6 @@ def neighbour_info(msg: NeighbourState, age_s: float) -> NeighbourInfo:
         encircled=msg.encircle_complete,
         ring_radius_m=None if ring_radius_m is None else float(ring_radius_m),
     )
-
-
-def neighbour_infos(
-    messages: Iterable[NeighbourState], now_s: float, own_id: int, departed: set[int], timeout_s: float
-) -> list[NeighbourInfo]:
-    """Neighbours as the control law wants them: not ourselves, not departed or leaving, not older than ``timeout_s``."""
-    infos: list[NeighbourInfo] = []
-    for msg in messages:
-        if msg.sender_id == own_id or msg.sender_id in departed or msg.has(FLAG_LEAVING):
-            continue
-        age_s = max(0.0, now_s - msg.t_s)
-        if age_s <= timeout_s:
-            infos.append(neighbour_info(msg, age_s))
-    return infos
 
 
 def velocity_ned(command: VelocityCommand) -> tuple[float, float, float]:

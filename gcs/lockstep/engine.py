@@ -6,7 +6,7 @@ backend flies the real arm, take-off and OFFBOARD sequence). Each control period
 
 1. the backend's state becomes every drone's telemetry (odometry = truth here; GPS drones get the true fix);
 2. each receiver's inbox is what the in-memory radio delivers by now (range on true positions, loss, latency);
-3. when a camera frame is due (``[camera] rate_hz``, the grid of :mod:`mock_autopilot.camera.schedule`) every
+3. when a camera frame is due (``[camera] rate_hz``, the grid of :mod:`mock_autopilot.periodic_schedule`) every
    drone's frame is rendered and perceived; in between, each drone keeps its newest result, as an agent does;
 4. :func:`vehicle_agents.core.onboard.onboard_step` runs for the whole fleet (N = fleet; an agent process calls the
    same function with N = 1): flight phase, neighbour table, control law, setpoints and state messages;
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.frames import enu_to_geodetic, ned_to_enu
+from comms.frames import enu_to_geodetic, local_ned_to_mission_enu, ned_to_enu
 from comms.messages import NeighbourState
 from comms.radio_model import RadioModel
 from gcs.lockstep.backend_choice import BackendKind, make_backend
@@ -37,7 +37,7 @@ from gcs.scenario import Scenario
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
-from mock_autopilot.camera.schedule import frame_due, next_frame_due_s
+from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from vehicle_agents.control.params import ControlParams
@@ -183,11 +183,11 @@ def run_lockstep(
 
     for k in range(steps + 1):
         t_s = k * dt_s
-        positions = ned_to_enu(state.position_ned_m) + np.column_stack([pads[:, :2], np.zeros(n)])
+        positions = local_ned_to_mission_enu(state.position_ned_m, pads)
         positions[~state.alive] = np.nan
         inboxes = radio.deliver(t_s)
-        if frame_due(next_frame_t, t_s):
-            next_frame_t = next_frame_due_s(next_frame_t, frame_period_s, t_s)
+        if slot_reached(next_frame_t, t_s):
+            next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
             for i, vehicle in enumerate(vehicles):
                 if state.alive[i] and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
                     perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed)
@@ -198,7 +198,7 @@ def run_lockstep(
         for message in radio.broadcast(t_s, positions, outputs.state_messages):
             if message is not None:
                 gcs_heard[message.sender_id] = message
-        sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool) & state.alive
+        sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)
         commands_enu = ned_to_enu(outputs.velocity_setpoint_ned_mps)
         commands_enu[~sent] = 0.0
         t_rec[k] = t_s
@@ -209,11 +209,12 @@ def run_lockstep(
         if encircle_time_s is None and any(core.memories[i].encircled for i in boundary_idx):
             encircle_time_s = t_s
             events.append((t_s, "encircling complete: the two groups' leading drones met"))
-        if frame_due(next_polygon_t, t_s) and ring_order:
-            offset = georeference_offset_en_m(gcs_heard.get(leader_id) if leader_id else None, scenario.home)
+        if slot_reached(next_polygon_t, t_s) and ring_order:
+            leader = gcs_heard.get(leader_id) if leader_id is not None else None
+            offset = georeference_offset_en_m(leader, scenario.home)
             ring = aggregate_polygon(gcs_heard, ring_order, offset, t_s, max_report_age_s)
             polygons.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
-            next_polygon_t += scenario.polygon_period_s
+            next_polygon_t = next_slot_s(next_polygon_t, scenario.polygon_period_s, t_s)
         if k < steps:
             requests = [_REQUESTS.get(a, VehicleRequest.NONE) for a in outputs.actions]
             state = fleet.step(outputs.velocity_setpoint_ned_mps, outputs.yaw_ned_rad, sent, requests, dt_s)

@@ -13,22 +13,14 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 from gcs.mission.options import BACKENDS, ENGINES, MissionOptions
+from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
 from vehicle_agents.control.params import MODES
 
-EXIT_USAGE = 2
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line and exit code 2."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]
-        print(f"gcs.mission: {message}", file=sys.stderr)
-        raise SystemExit(EXIT_USAGE)
-
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="python -m gcs.mission", description="Run a FloodWatch mission (SPEC §4-§6).")
+    parser = OneLineArgumentParser(prog="python -m gcs.mission", description="Run a FloodWatch mission (SPEC §4-§6).",
+                                   label="gcs.mission")
     parser.add_argument("scenario", help="bundled scenario name (circle, ellipse, ...) or path to a .toml file")
     parser.add_argument("--engine", choices=ENGINES, default="processes", help="default: processes")
     parser.add_argument("--backend", choices=BACKENDS, default=None,

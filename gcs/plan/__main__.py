@@ -15,23 +15,14 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from comms.keys import KeyNameError, validate_mission
+from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.plan.files import write_plans
 from gcs.scenario import ScenarioError, check_flood, load_scenario
 from mission_plan.control_params import MODES
 
-EXIT_USAGE = 2
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line and exit code 2."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]
-        print(f"gcs.plan: {message}", file=sys.stderr)
-        raise SystemExit(EXIT_USAGE)
-
-
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="python -m gcs.plan", description="Write a scenario's plan files for deployment.")
+    p = OneLineArgumentParser(prog="python -m gcs.plan", description="Write a scenario's plan files for deployment.",
+                              label="gcs.plan")
     p.add_argument("scenario", help="bundled scenario name (circle, ellipse, ...) or path to a .toml file")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder for the plan files")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",

@@ -42,6 +42,7 @@ from comms.frames import GeodeticHome
 from mock_autopilot.backends.interface import BackendState, VehicleRequest, step_inputs
 from mock_autopilot.dynamics_params import px4_params
 from mock_autopilot.kinematics import KinematicLimits
+from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.px4_modes import MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, MAV_MODE_FLAG_SAFETY_ARMED, MODE_TABLE, Px4Mode
 from mock_autopilot.px4_params import PARAM_SPECS, encode_param_value
 from mock_autopilot.px4_streams import GCS, ONBOARD
@@ -321,13 +322,11 @@ class Px4Backend:
         return result
 
     def _send_gcs_heartbeats(self, t: float) -> None:
-        if t + 1e-9 < self._next_gcs_heartbeat_s:
+        if not slot_reached(self._next_gcs_heartbeat_s, t):
             return
         for vehicle in self.vehicles:
             vehicle.handle(GCS, self._gcs_heartbeat, t)
-        self._next_gcs_heartbeat_s += self.gcs_heartbeat_period_s * max(
-            1, math.floor((t + 1e-9 - self._next_gcs_heartbeat_s) / self.gcs_heartbeat_period_s) + 1
-        )
+        self._next_gcs_heartbeat_s = next_slot_s(self._next_gcs_heartbeat_s, self.gcs_heartbeat_period_s, t)
 
     def _tick(self, t_s: float) -> None:
         """PX4's physics and timers to ``t_s``; of what they send only STATUSTEXTs are kept (module doc)."""

@@ -26,7 +26,7 @@ from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, enc
 from comms.zenoh_session import ZenohSession
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
-from mock_autopilot.camera.schedule import frame_due, next_frame_due_s
+from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.flood_model import FloodModel
 
 MIN_CAMERA_ALTITUDE_M = 1.0
@@ -154,7 +154,7 @@ class CameraStreamer:
             airborne = sum(1 for v in vehicles if self._streams(v))
             self.airborne_vehicle_s += airborne * max(0.0, now_s - self._last_t_s)
         self._last_t_s = now_s
-        if not frame_due(self._next_camera_s, now_s):
+        if not slot_reached(self._next_camera_s, now_s):
             return
         flood_t_s = self.flood_time_s(now_s)
         for vehicle in vehicles:
@@ -170,7 +170,7 @@ class CameraStreamer:
             self.render_wall_s += rendered - started
             self.publish_wall_s += time.perf_counter() - rendered
             self.frames_sent += 1
-        self._next_camera_s = next_frame_due_s(self._next_camera_s, self.camera_period_s, now_s)
+        self._next_camera_s = next_slot_s(self._next_camera_s, self.camera_period_s, now_s)
 
     def frame_rate_hz(self) -> float:
         """Achieved camera frames per airborne vehicle per mission second (nominal: 1 / camera_period_s)."""
@@ -205,7 +205,7 @@ class SimBridge:
         if now_s >= self._next_truth_s:
             self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
             self.truths_sent += 1
-            self._next_truth_s = next_frame_due_s(self._next_truth_s, self.truth_period_s, now_s)
+            self._next_truth_s = next_slot_s(self._next_truth_s, self.truth_period_s, now_s)
         if self.cameras is not None:
             self.cameras.stream(now_s, vehicles)
 

@@ -8,7 +8,8 @@ import pytest
 from comms.messages import FLAG_HAS_GPS, FLAG_LEADING, FLAG_LEAVING, FLAG_OFFBOARD, NeighbourState, decode, encode
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 from vehicle_agents.control.types import NeighbourInfo, VelocityCommand
-from vehicle_agents.onboard_view import neighbour_infos, own_state, state_message, velocity_ned
+from vehicle_agents.core.neighbours import Inbox, heard_after
+from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
 
 
 def test_own_state_is_pad_plus_local_ned_in_enu() -> None:
@@ -29,9 +30,15 @@ def _msg(sender: int, t_s: float, flags: int = 0) -> NeighbourState:
                           group="A", flags=flags, extras={"ring_radius_m": 14.0})
 
 
+def _infos(msgs: list[NeighbourState], now_s: float, own_id: int, departed: set[int],
+           timeout_s: float) -> list[NeighbourInfo]:
+    heard, _ = heard_after({}, frozenset(departed), Inbox(states=msgs), own_id, now_s, timeout_s)
+    return [neighbour_info(msg, now_s - msg.t_s) for msg in heard.values()]
+
+
 def test_neighbour_infos_filter_self_departed_leaving_and_stale() -> None:
     msgs = [_msg(1, 9.5), _msg(2, 9.9), _msg(3, 5.0), _msg(4, 9.9, FLAG_LEAVING), _msg(5, 9.9)]
-    infos = neighbour_infos(msgs, now_s=10.0, own_id=1, departed={5}, timeout_s=3.0)
+    infos = _infos(msgs, now_s=10.0, own_id=1, departed={5}, timeout_s=3.0)
     assert [n.vehicle_id for n in infos] == [2]
     assert infos[0].age_s == pytest.approx(0.1)
     assert infos[0].group == "A" and infos[0].ring_radius_m == 14.0
@@ -54,5 +61,5 @@ def test_state_message_round_trips_with_absolute_edge_points() -> None:
     pts = np.array(back.edge_points_en_m)
     assert 3 <= len(pts) <= 32
     assert pts[:, 0].min() == pytest.approx(13.0) and pts[:, 0].max() == pytest.approx(15.0)
-    info = neighbour_infos([back], now_s=12.6, own_id=1, departed=set(), timeout_s=3.0)[0]
+    info = _infos([back], now_s=12.6, own_id=1, departed=set(), timeout_s=3.0)[0]
     assert info.leading and info.group == "B" and info.ring_radius_m == 13.0

@@ -36,34 +36,20 @@ def heard_after(
     t_s: float,
     timeout_s: float,
 ) -> tuple[Mapping[int, NeighbourState], frozenset[int]]:
-    """The table after ``inbox`` at mission time ``t_s``; returns the inputs themselves when nothing changed."""
+    """The table after ``inbox`` at mission time ``t_s`` (a new mapping; the one given is left as it was)."""
     if inbox.departed_ids or inbox.returned_ids:
         departed = (departed - frozenset(inbox.returned_ids)) | frozenset(inbox.departed_ids)
-    table: dict[int, NeighbourState] | None = None
-    for vid in inbox.departed_ids:
-        if vid in heard:
-            table = dict(heard) if table is None else table
-            table.pop(vid, None)
+    oldest_t_s = t_s - timeout_s
+    table = {vid: msg for vid, msg in heard.items() if vid not in departed and msg.t_s >= oldest_t_s}
     for msg in inbox.states:
         sender = msg.sender_id
         if sender == own_id or sender in departed:
             continue
-        current = (heard if table is None else table).get(sender)
         if msg.flags & FLAG_LEAVING:
             departed = departed | {sender}
-            if current is not None:
-                table = dict(heard) if table is None else table
-                del table[sender]
+            table.pop(sender, None)
             continue
-        if current is not None and msg.seq <= current.seq and not msg.t_s > current.t_s + timeout_s:
-            continue
-        table = dict(heard) if table is None else table
-        table[sender] = msg
-    oldest_t_s = t_s - timeout_s
-    source = heard if table is None else table
-    stale = [vid for vid, msg in source.items() if msg.t_s < oldest_t_s]
-    if stale:
-        table = dict(heard) if table is None else table
-        for vid in stale:
-            del table[vid]
-    return (heard if table is None else table), departed
+        current = table.get(sender)
+        if msg.t_s >= oldest_t_s and (current is None or msg.seq > current.seq or msg.t_s > current.t_s + timeout_s):
+            table[sender] = msg
+    return table, departed

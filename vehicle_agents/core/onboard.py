@@ -92,7 +92,6 @@ class OnboardState:
     heard: tuple[Mapping[int, NeighbourState], ...]
     departed: tuple[frozenset[int], ...]
     seq: tuple[int, ...]
-    flood_clock_start_t_s: tuple[float | None, ...]
 
 
 @dataclass(frozen=True)
@@ -116,7 +115,6 @@ def initial_state(plan: OnboardPlan, phase: Phase = Phase.CONNECTING) -> Onboard
         heard=({},) * n,
         departed=(frozenset(),) * n,
         seq=(0,) * n,
-        flood_clock_start_t_s=(None,) * n,
     )
 
 
@@ -130,7 +128,6 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     heard = list(state.heard)
     departed = list(state.departed)
     seq = list(state.seq)
-    flood_start = list(state.flood_clock_start_t_s)
     actions: list[Action] = []
     setpoints = np.zeros((n, 3))
     yaws = np.zeros(n)
@@ -139,8 +136,6 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     for i in range(n):
         tel = inputs.telemetry.vehicle(i)
         order = inputs.orders[i]
-        if order.flood_clock_start_t_s is not None:
-            flood_start[i] = order.flood_clock_start_t_s
         command = Command.STOP if inputs.stop is not None and inputs.stop[i] else order.command
         silence_s = float(inputs.telemetry.link_silence_s[i])
         phase, action = next_phase(phases[i], PhaseInputs(tel, silence_s, command, order.age_s), plan.limits)
@@ -159,7 +154,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
                 if info is None:
                     info = converted[id(msg)] = neighbour_info(msg, max(0.0, t_s - msg.t_s))
                 infos.append(info)
-            start_s = flood_start[i] if flood_start[i] is not None else t_s
+            start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
             velocity, memories[i] = control_step(plan.roles[i], memories[i], own, inputs.perception[i], infos, params,
                                                  max(0.0, t_s - start_s))
             setpoints[i] = velocity_ned(velocity)
@@ -175,5 +170,5 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         ))
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
-                        departed=tuple(departed), seq=tuple(seq), flood_clock_start_t_s=tuple(flood_start))
+                        departed=tuple(departed), seq=tuple(seq))
     return outputs, new_state
