@@ -124,9 +124,15 @@ def check_cells(scenario: str, axes: Sequence[GridAxis], runs: Sequence[RunSpec]
         try:
             check_models(load_scenario(scenario, spec.overrides()))
         except ScenarioError as exc:
-            bad = [f"{k}={v}" for k, v in spec.cell if str(exc).startswith(k + ":") or str(exc).startswith(k + " ")]
-            where = f"--grid {bad[0]}: " if bad else (f"grid cell {spec.cell_label()}: " if axes else "")
-            raise ScenarioError(f"{where}{exc}") from None
+            raise ScenarioError(_name_the_cell(str(exc), spec, axes)) from None
+
+
+def _name_the_cell(message: str, spec: RunSpec, axes: Sequence[GridAxis]) -> str:
+    """Prefix a scenario error with the ``--grid`` value it came from (or the whole cell when it names none)."""
+    for key, value in spec.cell:
+        if message.startswith(f"{key}:"):
+            return f"--grid {message}" if "unknown key" in message else f"--grid {key}={value}: {message}"
+    return f"grid cell {spec.cell_label()}: {message}" if axes else message
 
 
 def _cpu_count() -> int:
