@@ -1,0 +1,45 @@
+"""docs/RESULTS.md from campaign rows (pure rendering; nothing is run)."""
+
+from pathlib import Path
+
+from gcs.campaign.results_doc import CAMPAIGNS, NOTHING_MOVED, main, render, seed_spread
+from gcs.campaign.store import write_row
+
+
+def _row(mode: str, seed: int, **metrics: object) -> dict:
+    base = {"run_id": f"{mode}{seed}", "scenario": "circle", "mode": mode, "seed": seed, "error": None,
+            "vehicles": 13, "code_version": "abc123", "wall_s": 20.0, "encircle_time_s": 10.9,
+            "spacing_cv_final": 0.001, "polygon_iou_final": 0.998, "min_pairwise_distance_m": 1.48}
+    return {**base, **metrics}
+
+
+def test_calm_seeds_are_called_what_they_are() -> None:
+    rows = [_row("improved", s) for s in range(1, 21)]
+    assert seed_spread(rows) == NOTHING_MOVED
+    moved = rows[:-1] + [_row("improved", 20, polygon_iou_final=0.990)]
+    assert seed_spread(moved) == "polygon IoU 0.000 (max - min 0.008)"
+
+
+def test_render_targets_distributions_and_commands() -> None:
+    circle = [_row("improved", s) for s in range(1, 21)] + [_row("paper", s, encircle_time_s=21.2 + s / 100)
+                                                           for s in range(1, 21)]
+    circle.append(_row("paper", 21, error="OverflowError: x"))
+    pdot = [_row(mode, s, **{"grid:control.pdot_reading": reading, "cell": f"control.pdot_reading={reading}"})
+            for mode in ("paper", "improved") for s in (1, 2) for reading in ("full", "none")]
+    text = render({"circle": circle, "circle-pdot": pdot}, "2026-01-01 00:00 UTC")
+    assert "python -m gcs.campaign circle --seeds 1-20 --mode paper,improved --workers 1 --out runs/results/circle" \
+        in text
+    assert "--grid control.pdot_reading=full,none" in text
+    assert "| T_enc [s] | <= 20 | 21.3 [21.2, 21.4] | 0.2 | 10.9 | 0.0 | yes (20/20 runs) |" in text
+    assert "| `circle` | 40 | 41 | 1 | 20 |" in text and "| `large` | 10 | 0 | 0 | — |" in text
+    assert "| improved | full | 2 |" in text and "| paper | normal (default) | 20 |" in text
+    assert NOTHING_MOVED in text and "OverflowError: x" in text
+    assert len(CAMPAIGNS) == 7
+
+
+def test_main_reads_rows_from_the_campaign_folders(tmp_path: Path) -> None:
+    for row in [_row("improved", 1), _row("paper", 1)]:
+        write_row(tmp_path / "circle", row["run_id"], row)
+    out = tmp_path / "RESULTS.md"
+    assert main(["--root", str(tmp_path), "--out", str(out)]) == 0
+    assert "| `circle` | 40 | 2 | 0 | 20 |" in out.read_text()
