@@ -7,12 +7,15 @@ this process) and reports, over the MISSION phase only:
 * setpoint age at the autopilot [mission s], p50/p99: how old the newest offboard setpoint each vehicle holds is,
   sampled by the simulator (what PX4's COM_OF_LOSS_T watchdog looks at; MAVSDK re-sends at 20 Hz wall);
 * CPU [% of one core] and peak memory (RSS) per agent, of the fleet+bridge process, the radio and the GCS;
+* CPU per agent per control tick [ms], split by thread (``bench/agent_tick_cost.py``: the Python main thread,
+  Zenoh's runtimes, MAVSDK's threads), and memory per agent as PSS (shared pages counted once across agents);
 * the mission's own metrics (IoU, coverage, encircle time, minimum distance) so a run that "holds" also works.
 
 Usage::
 
     python bench/mission_processes.py --speeds 1,2,4 --duration 30
     python bench/mission_processes.py --scenario circle --speeds 1 --sizes 4,6,8,10   # boundary drones per group
+    python bench/mission_processes.py --scenario large --sizes 8,11,14 --set control_rate_hz=10
 
 Ports 27000-27999 are used so the benchmark never meets a running mission.
 """
@@ -32,6 +35,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from bench.agent_tick_cost import (  # noqa: E402
+    ThreadCpuWindow,
+    label_threads_gdb,
+    median_table,
+    per_tick_ms,
+    pss_mb,
+)
 from gcs.processes import ProcessOptions  # noqa: E402
 from gcs.processes.ground_station import GroundStation  # noqa: E402
 from gcs.scenario import load_scenario  # noqa: E402
@@ -61,7 +71,9 @@ def rss_mb(pid: int) -> float | None:
 
 
 def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, duration_s: float, out_dir: Path,
-             mode: str) -> dict[str, object]:
+             mode: str, gdb_labels: bool = False) -> dict[str, object]:
+    """Fly one mission and measure it; ``gdb_labels`` names MAVSDK's unnamed threads from one agent's stacks,
+    read during take-off (gdb pauses that agent for about a second, outside the measured MISSION phase)."""
     scenario = load_scenario(scenario_name, overrides)
     options = ProcessOptions(scenario_arg=scenario_name, overrides=overrides, mode=mode, speed=speed,
                              duration_s=duration_s, out_dir=out_dir, mission="bench", mavlink_base_port=27000,
@@ -76,12 +88,19 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     start_cpu: dict[str, float] = {}
     last_cpu: dict[str, float] = {}
     peak_rss: dict[str, float] = {}
+    pss_samples: dict[str, list[float]] = {}
+    thread_windows: dict[str, ThreadCpuWindow] = {}
+    reference: tuple[int, dict[int, str]] | None = None
     mission_wall = [0.0, 0.0]
     gcs_pid = os.getpid()
     while thread.is_alive():
         time.sleep(0.25)
         pids = {c.name: c.pid for c in station.supervisor.children}
         pids["gcs"] = gcs_pid
+        if gdb_labels and reference is None and station.phase == "takeoff":
+            first_agent = min((n for n in pids if n.startswith("agent_")), default=None)
+            if first_agent is not None:
+                reference = (pids[first_agent], label_threads_gdb(pids[first_agent]))
         if station.phase == "mission":
             for name, pid in pids.items():
                 cpu = cpu_seconds(pid)
@@ -90,6 +109,12 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
                 start_cpu.setdefault(name, cpu)
                 last_cpu[name] = cpu
                 peak_rss[name] = max(peak_rss.get(name, 0.0), rss_mb(pid) or 0.0)
+                if name.startswith("agent_"):
+                    window = thread_windows.setdefault(name, ThreadCpuWindow(pid))
+                    window.sample()
+                    pss = pss_mb(pid)
+                    if pss is not None:
+                        pss_samples.setdefault(name, []).append(pss)
             if not mission_wall[0]:
                 mission_wall[0] = time.monotonic()
             mission_wall[1] = time.monotonic()
@@ -97,11 +122,25 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     wall_s = max(mission_wall[1] - mission_wall[0], 1e-9)
     cpu_pct = {name: 100.0 * (last_cpu[name] - start_cpu[name]) / wall_s for name in last_cpu}
     rates, overruns = [], []
+    steps: dict[str, int] = {}
     for log in sorted(out_dir.glob("agent_*.log")):
         match = _RATE_RE.search(log.read_text(errors="replace"))
         if match and match.group(2) != "nan":
             rates.append(float(match.group(2)))
             overruns.append(int(match.group(3)))
+            steps[log.stem] = int(match.group(1))
+    tick_tables = [per_tick_ms(window.cpu_by_group(), steps.get(name, 0))
+                   for name, window in thread_windows.items() if steps.get(name, 0) > 0]
+    tick_by_thread = median_table(t for t in tick_tables if t)
+    reference_tick: dict[str, float] = {}
+    reference_name = ""
+    if reference is not None:
+        ref_pid, ref_labels = reference
+        for name, window in thread_windows.items():
+            if window.pid == ref_pid:
+                reference_name = name
+                reference_tick = per_tick_ms(window.cpu_by_group(ref_labels), steps.get(name, 0))
+    agent_pss = [statistics.median(v) for k, v in pss_samples.items() if v]
     sim_log = (out_dir / "sim.log").read_text(errors="replace") if (out_dir / "sim.log").exists() else ""
     cam_log = (out_dir / "cameras.log").read_text(errors="replace") if (out_dir / "cameras.log").exists() else ""
     age = _AGE_RE.search(sim_log)
@@ -126,6 +165,11 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         "agent_cpu_pct_median": statistics.median(agent_cpu) if agent_cpu else float("nan"),
         "agent_cpu_pct_max": max(agent_cpu) if agent_cpu else float("nan"),
         "agent_rss_mb_median": statistics.median(agent_rss) if agent_rss else float("nan"),
+        "agent_pss_mb_median": statistics.median(agent_pss) if agent_pss else float("nan"),
+        "agent_ms_per_tick": tick_by_thread.get("total", float("nan")),
+        "agent_ms_per_tick_by_thread": tick_by_thread,
+        "reference_agent": reference_name,
+        "reference_agent_ms_per_tick_by_thread": reference_tick,
         "sim_cpu_pct": cpu_pct.get("sim", float("nan")),
         "sim_rss_mb": peak_rss.get("sim", float("nan")),
         "cameras_cpu_pct": cpu_pct.get("cameras", float("nan")),
@@ -154,8 +198,13 @@ def main() -> int:
     p.add_argument("--duration", type=float, default=30.0)
     p.add_argument("--sizes", default="", help="boundary drones per group to try, ascending (fleet scaling at the first "
                    "speed; one follower layer of the same size); replaces the plain speed runs")
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE",
+                   help="override a scenario parameter for every run, e.g. control_rate_hz=10")
+    p.add_argument("--gdb-labels", action="store_true", help="split MAVSDK's unnamed threads by their native stacks "
+                   "(gdb pauses one agent for about a second during take-off)")
     p.add_argument("--out", type=Path, default=Path("runs/bench-processes"))
     args = p.parse_args()
+    common = tuple(args.overrides)
     rows = []
     sizes = [int(s) for s in args.sizes.split(",") if s]
     runs: list[tuple[float, tuple[str, ...]]] = [] if sizes else [(float(s), ()) for s in args.speeds.split(",") if s]
@@ -165,14 +214,16 @@ def main() -> int:
                                                           f"fleet.follower_layers=[{followers}]")))
     for speed, overrides in runs:
         tag = f"x{speed:g}" + ("-" + "-".join(o.split("=")[1] for o in overrides) if overrides else "")
-        row = run_once(args.scenario, overrides, speed, args.duration, args.out / tag, args.mode)
+        row = run_once(args.scenario, common + overrides, speed, args.duration, args.out / tag, args.mode,
+                       gdb_labels=args.gdb_labels)
         row["holds"] = holds(row)
         rows.append(row)
         print(json.dumps(row), flush=True)
-        if overrides and not row["holds"]:
+        if sizes and not row["holds"]:
             break  # fleet scaling: sizes go up, the first one that does not hold ends the search
     keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
-            "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_rss_mb_median", "sim_cpu_pct", "sim_rss_mb",
+            "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_ms_per_tick", "agent_rss_mb_median",
+            "agent_pss_mb_median", "sim_cpu_pct", "sim_rss_mb",
             "cameras_cpu_pct", "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",
             "min_pairwise_distance_m"]
     print("| " + " | ".join(keys) + " |")

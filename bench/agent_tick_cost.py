@@ -1,0 +1,214 @@
+"""Where an agent process's CPU goes, per control tick, read from /proc (and its memory as PSS).
+
+Wall-clock timing on a shared 2-core machine says more about the neighbours' load than about the agent, so every
+figure here is CPU time the kernel charged to the agent's threads (``utime + stime`` of
+``/proc/<pid>/task/<tid>/stat``), taken over the MISSION phase and divided by the control steps the agent logged.
+Threads are grouped by what they are:
+
+* ``main``: the Python main thread (asyncio loop, onboard core, perception, Zenoh ``put`` from Python);
+* ``zenoh <pool>``: Zenoh's tokio runtimes (``rx``, ``tx``, ``net``, ``acc``, ``app``; see ``ZENOH_RUNTIME``) and its
+  shared-memory watchdog threads, which Zenoh names;
+* the rest inherit the name ``python``: MAVSDK's C++ threads (asio I/O, user callbacks, HTTP loader), the asyncio
+  default executor's worker threads, OpenBLAS's idle pool. ``label_threads_gdb`` tells them apart from their native
+  stacks; gdb pauses the process it reads, so only one agent (the reference) is labelled, during take-off.
+
+Memory is PSS (``/proc/<pid>/smaps_rollup``): agents share the interpreter, numpy, OpenCV, MAVSDK and Zenoh pages,
+and RSS would count those once per agent.
+
+Usage (one mission, per-thread table)::
+
+    python bench/agent_tick_cost.py --duration 30                       # circle, 13 vehicles, 20 Hz
+    python bench/agent_tick_cost.py --duration 30 --set control_rate_hz=10
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+_CLK_TCK = os.sysconf("SC_CLK_TCK")
+_ZENOH_POOLS = ("rx", "tx", "net", "acc", "app")
+_GDB_THREAD_RE = re.compile(r'^Thread \d+ \(Thread 0x[0-9a-f]+ \(LWP (\d+)\) "([^"]*)"\):')
+# Native-stack markers, most specific first: the first that occurs in a thread's backtrace names it.
+_STACK_LABELS: tuple[tuple[str, str], ...] = (
+    ("process_user_callbacks_thread", "mavsdk callbacks"),
+    ("HttpLoader", "mavsdk http loader"),
+    ("MavsdkImpl", "mavsdk io (asio)"),
+    ("asio::", "mavsdk io (asio)"),
+    ("libcmavsdk", "mavsdk other"),
+    ("blas_thread_server", "openblas (idle pool)"),
+    ("SimpleQueue_get", "asyncio executor"),
+    ("PyEval", "python thread"),
+)
+
+
+@dataclass(frozen=True)
+class ThreadSample:
+    """One thread's cumulative CPU time [s] and its kernel name (``comm``) at one read."""
+
+    name: str
+    cpu_s: float
+
+
+def thread_samples(pid: int) -> dict[int, ThreadSample]:
+    """Every live thread of ``pid``: tid -> (name, cumulative utime + stime [s]); empty if the process is gone."""
+    samples: dict[int, ThreadSample] = {}
+    try:
+        tids = os.listdir(f"/proc/{pid}/task")
+    except OSError:
+        return samples
+    for tid in tids:
+        try:
+            stat = Path(f"/proc/{pid}/task/{tid}/stat").read_text()
+        except OSError:
+            continue
+        name = stat[stat.index("(") + 1: stat.rindex(")")]
+        fields = stat.rsplit(")", 1)[1].split()
+        samples[int(tid)] = ThreadSample(name, (int(fields[11]) + int(fields[12])) / _CLK_TCK)
+    return samples
+
+
+def pss_mb(pid: int) -> float | None:
+    """Proportional set size [MiB]: this process's private pages plus its share of every shared page."""
+    try:
+        for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+            if line.startswith("Pss:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        return None
+    return None
+
+
+def thread_group(pid: int, tid: int, name: str, labels: Mapping[int, str] | None = None) -> str:
+    """The group a thread's CPU is reported under (see the module docstring)."""
+    if tid == pid:
+        return "main"
+    pool = name.split("-")[0]
+    if pool in _ZENOH_POOLS and name[len(pool) + 1:].isdigit():
+        return f"zenoh {pool}"
+    if name.startswith("Watchdog"):
+        return "zenoh shm watchdog"
+    if labels is not None and tid in labels:
+        return labels[tid]
+    return "unnamed: mavsdk + executor"
+
+
+@dataclass
+class ThreadCpuWindow:
+    """Per-thread CPU of one process between a first and a last read (threads born in between count from 0)."""
+
+    pid: int
+    first: dict[int, ThreadSample] = field(default_factory=dict)
+    last: dict[int, ThreadSample] = field(default_factory=dict)
+    started: bool = False
+
+    def sample(self) -> None:
+        """Read the threads now; the first call opens the window, every call moves its end."""
+        now = thread_samples(self.pid)
+        if not now:
+            return
+        if not self.started:
+            self.first, self.started = dict(now), True
+        self.last.update(now)
+
+    def cpu_by_tid(self) -> dict[int, tuple[str, float]]:
+        """tid -> (name, CPU [s] spent inside the window)."""
+        return {tid: (s.name, s.cpu_s - (self.first[tid].cpu_s if tid in self.first else 0.0))
+                for tid, s in self.last.items()}
+
+    def cpu_by_group(self, labels: Mapping[int, str] | None = None) -> dict[str, float]:
+        """Group name -> CPU [s] inside the window."""
+        groups: dict[str, float] = {}
+        for tid, (name, cpu_s) in self.cpu_by_tid().items():
+            group = thread_group(self.pid, tid, name, labels)
+            groups[group] = groups.get(group, 0.0) + cpu_s
+        return groups
+
+
+def label_threads_gdb(pid: int, timeout_s: float = 60.0) -> dict[int, str]:
+    """tid -> label from each thread's native backtrace (gdb attaches, pausing the process for about a second).
+
+    Only for the unnamed threads; returns {} when gdb is missing or fails. Call it outside the measured window.
+    """
+    try:
+        out = subprocess.run(["gdb", "-p", str(pid), "-batch", "-nx", "-ex", "thread apply all bt 14"],
+                             capture_output=True, text=True, timeout=timeout_s).stdout
+    except (OSError, subprocess.TimeoutExpired):
+        return {}
+    labels: dict[int, str] = {}
+    current: tuple[int, str] | None = None
+    frames: list[str] = []
+
+    def finish() -> None:
+        if current is not None and current[1] == "python" and current[0] != pid:
+            text = "\n".join(frames)
+            labels[current[0]] = next((label for marker, label in _STACK_LABELS if marker in text), "unnamed other")
+
+    for line in out.splitlines():
+        match = _GDB_THREAD_RE.match(line)
+        if match:
+            finish()
+            current, frames = (int(match.group(1)), match.group(2)), []
+        elif line.startswith("#"):
+            frames.append(line)
+    finish()
+    return labels
+
+
+def per_tick_ms(cpu_by_group: Mapping[str, float], control_steps: int) -> dict[str, float]:
+    """Group -> CPU [ms] per control step, plus ``total``."""
+    if control_steps <= 0:
+        return {}
+    table = {group: 1000.0 * cpu_s / control_steps for group, cpu_s in cpu_by_group.items()}
+    table["total"] = sum(table.values())
+    return table
+
+
+def median_table(tables: Iterable[Mapping[str, float]]) -> dict[str, float]:
+    """Per-key median over several agents' tables (a key missing in one agent counts as 0 there)."""
+    rows = list(tables)
+    keys = sorted({k for row in rows for k in row})
+    out: dict[str, float] = {}
+    for key in keys:
+        values = sorted(row.get(key, 0.0) for row in rows)
+        mid = len(values) // 2
+        out[key] = values[mid] if len(values) % 2 else 0.5 * (values[mid - 1] + values[mid])
+    return out
+
+
+def main() -> int:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from bench.mission_processes import run_once  # noqa: PLC0415 - heavy (the ground station) and CLI-only
+
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--scenario", default="circle")
+    p.add_argument("--mode", default="improved")
+    p.add_argument("--speed", type=float, default=1.0)
+    p.add_argument("--duration", type=float, default=30.0)
+    p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+    p.add_argument("--no-gdb", action="store_true", help="do not label MAVSDK's unnamed threads with gdb")
+    p.add_argument("--out", type=Path, default=Path("runs/bench-agent-tick"))
+    args = p.parse_args()
+    row = run_once(args.scenario, tuple(args.overrides), args.speed, args.duration, args.out, args.mode,
+                   gdb_labels=not args.no_gdb)
+    print(json.dumps(row), flush=True)
+    for title, key in (("median over agents", "agent_ms_per_tick_by_thread"),
+                       ("reference agent, gdb labels", "reference_agent_ms_per_tick_by_thread")):
+        table = row.get(key) or {}
+        print(f"| thread group | ms CPU per agent per tick ({title}) |")
+        print("|---|---|")
+        for group, ms in sorted(table.items(), key=lambda kv: (kv[0] == "total", -kv[1])):
+            print(f"| {group} | {ms:.3f} |")
+    print(f"PSS per agent (median): {row.get('agent_pss_mb_median', float('nan')):.1f} MiB")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
