@@ -15,12 +15,23 @@ copy the payload into a ``LatestValueBuffer`` and return; they never block, neve
 (errors are counted in ``callback_errors``).
 Open sessions only after any ``fork``. ``close`` undeclares everything and closes the session; an ``atexit`` hook
 closes sessions a caller forgot, so the interpreter never hangs at exit.
+
+Threads and per-process cost: every mission process holds one session, and a host runs one agent process per drone,
+so Zenoh's fixed cost per process is multiplied by the fleet. By default Zenoh 1.x starts five tokio runtimes (``rx``
+with two workers, ``tx``, ``net``, ``acc``, ``app``) plus a shared-memory watchdog. Our processes each move a few
+hundred small messages per second, which one worker carries easily, while every extra worker adds wake-ups and
+cross-thread hand-offs (tokio wakes an idle worker to steal each newly ready task). Unless the environment already
+sets it, ``ZENOH_RUNTIME`` (read by Zenoh once, when its first runtime starts) therefore hands the ``rx``, ``net``
+and ``acc`` runtimes over to ``app``; shared memory is off by default (``ZenohConfig.shared_memory``) because we
+publish plain bytes, never SHM buffers, so it only cost a watchdog thread and its negotiation on every link. Set
+``ZENOH_RUNTIME='()'`` to get Zenoh's own defaults back. Numbers: docs/BENCHMARKS.md, "Agent cost per tick".
 """
 
 from __future__ import annotations
 
 import atexit
 import json
+import os
 import re
 import threading
 import time
@@ -29,7 +40,12 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-import zenoh
+LEAN_RUNTIME = "(rx: (handover: app), net: (handover: app), acc: (handover: app))"
+"""The ``ZENOH_RUNTIME`` default: one tokio worker (``app``) for receiving, link management and accepting; ``tx``
+keeps its own worker so sending never waits behind a slow receive callback."""
+os.environ.setdefault("ZENOH_RUNTIME", LEAN_RUNTIME)
+
+import zenoh  # noqa: E402 - after ZENOH_RUNTIME, which Zenoh reads once when its first runtime starts
 
 from comms.latest_buffer import LatestValueBuffer
 
@@ -53,6 +69,8 @@ class ZenohConfig:
     connect: tuple[str, ...] = ()
     multicast_scouting: bool = False
     gossip_scouting: bool = True
+    shared_memory: bool = False
+    """Zenoh's shared-memory transport; our payloads are plain bytes, so it would only add a watchdog thread."""
     extra_json5: tuple[tuple[str, str], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -90,6 +108,7 @@ class ZenohConfig:
             ("mode", json.dumps(self.mode)),
             ("scouting/multicast/enabled", json.dumps(self.multicast_scouting)),
             ("connect/endpoints", json.dumps(list(self.connect))),
+            ("transport/shared_memory/enabled", json.dumps(self.shared_memory)),
         ]
         if self.mode != "client":
             items.append(("listen/endpoints", json.dumps(list(self.listen))))

@@ -4,6 +4,7 @@ liveliness follows sessions, and closing leaves no thread and no hang."""
 from __future__ import annotations
 
 import asyncio
+import os
 import subprocess
 import sys
 import threading
@@ -228,3 +229,44 @@ def test_put_after_close_is_dropped_and_oversized_samples_are_not_buffered(free_
     other.put("floodwatch/big/c", b"1")
     other.put_once("floodwatch/big/c", b"1")
     assert other.dropped_after_close == 2
+
+
+_THREADS_AFTER_EXCHANGE = (
+    "import os, time\n"
+    "from comms.zenoh_session import ZenohSession, ZenohConfig\n"
+    "hub = ZenohSession(ZenohConfig.hub('{hub}'))\n"
+    "buf = hub.subscribe('floodwatch/rt/**')\n"
+    "member = ZenohSession(ZenohConfig.member('{hub}'))\n"
+    "deadline = time.monotonic() + 20\n"
+    "while not buf.drain() and time.monotonic() < deadline:\n"
+    "    member.put('floodwatch/rt/x', b'1')\n"
+    "    time.sleep(0.05)\n"
+    "names = sorted({{open(f'/proc/self/task/{{t}}/comm').read().strip() for t in os.listdir('/proc/self/task')}})\n"
+    "print(time.monotonic() < deadline, *names, flush=True)\n"
+    "member.close(); hub.close()\n"
+)
+
+
+def _zenoh_threads_after_exchange(hub_ep: str, env_runtime: str | None) -> list[str]:
+    """Thread names of a fresh process whose two sessions exchanged a sample; fails if nothing arrived."""
+    env = {k: v for k, v in os.environ.items() if k != "ZENOH_RUNTIME"}
+    if env_runtime is not None:
+        env["ZENOH_RUNTIME"] = env_runtime
+    out = subprocess.run([sys.executable, "-c", _THREADS_AFTER_EXCHANGE.format(hub=hub_ep)], capture_output=True,
+                         text=True, timeout=60, env=env, cwd=str(__import__("pathlib").Path(__file__).resolve().parents[2]))
+    assert out.returncode == 0, out.stderr
+    delivered, *names = out.stdout.split()
+    assert delivered == "True", out.stdout
+    return names
+
+
+def test_sessions_run_on_the_lean_zenoh_runtime_without_shared_memory(free_endpoint: Callable[[], str]) -> None:
+    names = _zenoh_threads_after_exchange(free_endpoint(), env_runtime=None)
+    assert "app-0" in names, names
+    assert not [n for n in names if n.split("-")[0] in ("rx", "net", "acc") or n.startswith("Watchdog")], names
+    assert ("transport/shared_memory/enabled", "false") in ZenohConfig().to_json5_items()
+
+
+def test_zenoh_runtime_from_the_environment_wins(free_endpoint: Callable[[], str]) -> None:
+    names = _zenoh_threads_after_exchange(free_endpoint(), env_runtime="()")
+    assert "rx-0" in names and "rx-1" in names, names
