@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import shlex
+import signal
 import subprocess
 import sys
 import time
@@ -212,7 +213,7 @@ class Cluster:
             self.client = Client(self.scheduler, timeout="30s")
         else:
             self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                        dashboard_address=None, memory_limit=0, silence_logs=40)
+                                        dashboard_address=":0", memory_limit=0, silence_logs=40)
             self.client = Client(self.cluster)
         return self.client
 
@@ -283,7 +284,7 @@ def _submit_and_collect(options: CampaignOptions, todo: Sequence[RunSpec], versi
                     pending.discard(future)
                     spec = by_key[future.key]
                     row = _row_of(future, spec, version)
-                    if future.status != "cancelled":
+                    if future.status != "cancelled" and not str(row.get(ERROR_COLUMN)).startswith("KeyboardInterrupt"):
                         write_row(out, spec.run_id, row)
                     done_count += 1
                     failed_count += bool(row.get(ERROR_COLUMN))
@@ -296,7 +297,8 @@ def _submit_and_collect(options: CampaignOptions, todo: Sequence[RunSpec], versi
 def _row_of(future: Any, spec: RunSpec, version: str) -> dict[str, Any]:
     """The run's row, or a row with the error when the task itself failed (e.g. its worker kept dying).
 
-    A cancelled task (the scheduler went away) gets a row that is shown but not written, so a rerun runs it.
+    A cancelled task (the scheduler went away) or one stopped by Ctrl-C reaching the worker gets a row that is
+    shown but not written, so a rerun runs it.
     """
     if future.status == "finished":
         return future.result()
@@ -330,9 +332,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (CampaignSyntaxError, ScenarioError) as exc:
         return usage_error(str(exc))
     start_s = time.monotonic()
-    code = run_campaign(options)
+    previous = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        code = run_campaign(options)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
     print(f"{LABEL}: {time.monotonic() - start_s:.0f} s wall", flush=True)
     return code
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    """SIGTERM as Ctrl-C: close the cluster, keep the rows (also when started in the background with SIGINT ignored)."""
+    raise KeyboardInterrupt
 
 
 __all__ = ["CampaignOptions", "Mode", "build_parser", "main", "parse_options", "run_campaign"]

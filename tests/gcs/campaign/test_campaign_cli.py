@@ -148,6 +148,28 @@ def test_a_killed_worker_has_its_runs_retried(tmp_path: Path, started: list[subp
     assert not psutil.pid_exists(killed) or psutil.Process(killed).status() == psutil.STATUS_ZOMBIE
 
 
+@pytest.mark.integration
+def test_ctrl_c_closes_the_cluster_and_keeps_the_rows(tmp_path: Path, started: list[subprocess.Popen]) -> None:
+    out = tmp_path / "camp"
+    proc = subprocess.Popen([sys.executable, "-m", "gcs.campaign", "circle", "--seeds", "1-4", *SHORT,
+                             "--workers", "1", "--out", str(out)], cwd=REPO, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    started.append(proc)
+    deadline = time.monotonic() + 90.0
+    while not list((out / "rows").glob("*.parquet")) if (out / "rows").is_dir() else True:
+        assert proc.poll() is None and time.monotonic() < deadline, "the first run never finished"
+        time.sleep(0.05)
+    children = psutil.Process(proc.pid).children(recursive=True)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60.0)
+    assert proc.returncode == 130
+    assert "interrupted; " in stderr and "run the same command to resume" in stderr
+    kept = read_rows(out)
+    assert 1 <= len(kept) < 4 and all(r["error"] is None for r in kept)
+    _, alive = psutil.wait_procs(children, timeout=10.0)
+    assert not alive, "every worker process is stopped"
+
+
 def _free_port() -> int:
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
