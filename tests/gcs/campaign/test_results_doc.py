@@ -43,3 +43,17 @@ def test_main_reads_rows_from_the_campaign_folders(tmp_path: Path) -> None:
     out = tmp_path / "RESULTS.md"
     assert main(["--root", str(tmp_path), "--out", str(out)]) == 0
     assert "| `circle` | 40 | 2 | 0 | 20 |" in out.read_text()
+
+
+def test_report_rewrites_summary_and_plots_from_rows_alone(tmp_path: Path) -> None:
+    from gcs.campaign.cli import main as campaign_main
+
+    camp = tmp_path / "camp"
+    for loss in ("0", "0.3"):
+        for row in [_row("improved", 1), _row("paper", 1)]:
+            row.update({"run_id": f"{row['run_id']}-{loss}", "cell": f"radio.loss={loss}", "grid:radio.loss": loss})
+            write_row(camp, row["run_id"], row)
+    assert campaign_main(["report", str(camp)]) == 0
+    assert "| T_enc [s] | radio.loss=0.3 | 1 | 10.9 |" in (camp / "summary.md").read_text()
+    assert (camp / "plots" / "circle__polygon_iou_final__radio.loss.png").stat().st_size > 1000
+    assert campaign_main(["report", str(tmp_path / "none")]) == 2
