@@ -61,3 +61,25 @@ def test_connect_without_autopilot_is_a_clear_error() -> None:
 
     with pytest.raises(AutopilotLinkError, match="no autopilot heartbeat"):
         asyncio.run(connect())
+
+
+def test_mavsdk_telemetry_arrives_without_waking_the_event_loop() -> None:
+    """Telemetry is stored on MAVSDK's own callback thread: it stays fresh while the loop is busy, and connecting
+    leaves no task behind that the loop would have to run for every MAVLink message."""
+
+    async def watch() -> None:
+        link = MavsdkAutopilotLink("udpin://0.0.0.0:26040")
+        try:
+            tasks_before = len(asyncio.all_tasks())
+            await link.connect(10.0)
+            assert len(asyncio.all_tasks()) == tasks_before
+            assert await _until(lambda: link.telemetry.ready_to_arm, 10.0)
+            stamp_s = link.telemetry.last_message_monotonic_s
+            time.sleep(1.0)  # the event loop is blocked: nothing of ours runs on it
+            assert link.telemetry.last_message_monotonic_s > stamp_s + 0.5
+            await link.set_velocity_ned((0.0, 0.0, 0.0), 0.0)  # stored in MAVSDK, no answer to wait for
+        finally:
+            await link.close()
+
+    with Fleet([VehicleConfig(0)], base_port=26040, gcs_port=26045):
+        asyncio.run(watch())
