@@ -9,6 +9,7 @@ stay, and the same command resumes.
 from __future__ import annotations
 
 import argparse
+import os
 import shlex
 import signal
 import subprocess
@@ -137,8 +138,6 @@ def _name_the_cell(message: str, spec: RunSpec, axes: Sequence[GridAxis]) -> str
 
 
 def _cpu_count() -> int:
-    import os
-
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 

@@ -9,7 +9,6 @@ tables say so, with the measured spread p95 - p5.
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 from collections.abc import Mapping, Sequence
