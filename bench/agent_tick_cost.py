@@ -29,6 +29,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -51,10 +52,15 @@ _STACK_LABELS: tuple[tuple[str, str], ...] = (
 
 @dataclass(frozen=True)
 class ThreadSample:
-    """One thread's cumulative CPU time [s] and its kernel name (``comm``) at one read."""
+    """One thread's kernel name (``comm``), cumulative CPU time [s] and cumulative wake-ups at one read.
+
+    Wake-ups are the kernel's ``voluntary_ctxt_switches``: how often the thread went to sleep (on a timer, a
+    socket, a lock or the GIL) and had to be woken again, the fixed cost that small messages multiply.
+    """
 
     name: str
     cpu_s: float
+    wakeups: int = 0
 
 
 def thread_samples(pid: int) -> dict[int, ThreadSample]:
@@ -71,8 +77,18 @@ def thread_samples(pid: int) -> dict[int, ThreadSample]:
             continue
         name = stat[stat.index("(") + 1: stat.rindex(")")]
         fields = stat.rsplit(")", 1)[1].split()
-        samples[int(tid)] = ThreadSample(name, (int(fields[11]) + int(fields[12])) / _CLK_TCK)
+        samples[int(tid)] = ThreadSample(name, (int(fields[11]) + int(fields[12])) / _CLK_TCK, _wakeups(pid, tid))
     return samples
+
+
+def _wakeups(pid: int, tid: str) -> int:
+    try:
+        for line in Path(f"/proc/{pid}/task/{tid}/status").read_text().splitlines():
+            if line.startswith("voluntary_ctxt_switches:"):
+                return int(line.split()[1])
+    except OSError:
+        pass
+    return 0
 
 
 def pss_mb(pid: int) -> float | None:
@@ -108,20 +124,37 @@ class ThreadCpuWindow:
     first: dict[int, ThreadSample] = field(default_factory=dict)
     last: dict[int, ThreadSample] = field(default_factory=dict)
     started: bool = False
+    first_wall_s: float = 0.0
+    last_wall_s: float = 0.0
 
     def sample(self) -> None:
         """Read the threads now; the first call opens the window, every call moves its end."""
         now = thread_samples(self.pid)
         if not now:
             return
+        wall_s = time.monotonic()
         if not self.started:
-            self.first, self.started = dict(now), True
+            self.first, self.started, self.first_wall_s = dict(now), True, wall_s
         self.last.update(now)
+        self.last_wall_s = wall_s
+
+    @property
+    def wall_s(self) -> float:
+        """Wall time between the first and the last read [s]."""
+        return self.last_wall_s - self.first_wall_s
 
     def cpu_by_tid(self) -> dict[int, tuple[str, float]]:
         """tid -> (name, CPU [s] spent inside the window)."""
         return {tid: (s.name, s.cpu_s - (self.first[tid].cpu_s if tid in self.first else 0.0))
                 for tid, s in self.last.items()}
+
+    def wakeups_by_group(self, labels: Mapping[int, str] | None = None) -> dict[str, float]:
+        """Group name -> wake-ups inside the window."""
+        groups: dict[str, float] = {}
+        for tid, s in self.last.items():
+            group = thread_group(self.pid, tid, s.name, labels)
+            groups[group] = groups.get(group, 0.0) + s.wakeups - (self.first[tid].wakeups if tid in self.first else 0)
+        return groups
 
     def cpu_by_group(self, labels: Mapping[int, str] | None = None) -> dict[str, float]:
         """Group name -> CPU [s] inside the window."""
@@ -162,13 +195,22 @@ def label_threads_gdb(pid: int, timeout_s: float = 60.0) -> dict[int, str]:
     return labels
 
 
-def per_tick_ms(cpu_by_group: Mapping[str, float], control_steps: int) -> dict[str, float]:
-    """Group -> CPU [ms] per control step, plus ``total``."""
+def per_tick(by_group: Mapping[str, float], control_steps: float, scale: float = 1.0) -> dict[str, float]:
+    """Group -> amount per control step times ``scale``, plus ``total``."""
     if control_steps <= 0:
         return {}
-    table = {group: 1000.0 * cpu_s / control_steps for group, cpu_s in cpu_by_group.items()}
+    table = {group: scale * value / control_steps for group, value in by_group.items()}
     table["total"] = sum(table.values())
     return table
+
+
+def per_tick_ms(cpu_by_group: Mapping[str, float], control_steps: float) -> dict[str, float]:
+    """Group -> CPU [ms] per control step, plus ``total``.
+
+    ``control_steps`` are the steps inside the window: the agent's achieved rate times the window's length (its own
+    step count covers its MISSION phase, which starts and ends a little apart from the window).
+    """
+    return per_tick(cpu_by_group, control_steps, 1000.0)
 
 
 def median_table(tables: Iterable[Mapping[str, float]]) -> dict[str, float]:
@@ -206,6 +248,8 @@ def main() -> int:
         print("|---|---|")
         for group, ms in sorted(table.items(), key=lambda kv: (kv[0] == "total", -kv[1])):
             print(f"| {group} | {ms:.3f} |")
+    wakeups = row.get("agent_wakeups_per_tick_by_thread") or {}
+    print("wake-ups per agent per tick (median): " + ", ".join(f"{g} {v:.1f}" for g, v in sorted(wakeups.items())))
     print(f"PSS per agent (median): {row.get('agent_pss_mb_median', float('nan')):.1f} MiB")
     return 0
 

@@ -38,6 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from bench.agent_tick_cost import (  # noqa: E402
     ThreadCpuWindow,
     label_threads_gdb,
+    per_tick,
     median_table,
     per_tick_ms,
     pss_mb,
@@ -91,16 +92,24 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     pss_samples: dict[str, list[float]] = {}
     thread_windows: dict[str, ThreadCpuWindow] = {}
     reference: tuple[int, dict[int, str]] | None = None
+    gdb_thread: threading.Thread | None = None
     mission_wall = [0.0, 0.0]
     gcs_pid = os.getpid()
     while thread.is_alive():
         time.sleep(0.25)
         pids = {c.name: c.pid for c in station.supervisor.children}
         pids["gcs"] = gcs_pid
-        if gdb_labels and reference is None and station.phase == "takeoff":
+        if gdb_labels and gdb_thread is None and station.phase == "takeoff":
             first_agent = min((n for n in pids if n.startswith("agent_")), default=None)
             if first_agent is not None:
-                reference = (pids[first_agent], label_threads_gdb(pids[first_agent]))
+                ref_pid = pids[first_agent]
+
+                def label(pid: int = ref_pid) -> None:
+                    nonlocal reference
+                    reference = (pid, label_threads_gdb(pid))
+
+                gdb_thread = threading.Thread(target=label, daemon=True)  # sampling goes on while gdb reads
+                gdb_thread.start()
         if station.phase == "mission":
             for name, pid in pids.items():
                 cpu = cpu_seconds(pid)
@@ -121,17 +130,24 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     thread.join()
     wall_s = max(mission_wall[1] - mission_wall[0], 1e-9)
     cpu_pct = {name: 100.0 * (last_cpu[name] - start_cpu[name]) / wall_s for name in last_cpu}
+    if gdb_thread is not None:
+        gdb_thread.join(timeout=60.0)
     rates, overruns = [], []
-    steps: dict[str, int] = {}
+    rate_by_agent: dict[str, float] = {}
     for log in sorted(out_dir.glob("agent_*.log")):
         match = _RATE_RE.search(log.read_text(errors="replace"))
         if match and match.group(2) != "nan":
             rates.append(float(match.group(2)))
             overruns.append(int(match.group(3)))
-            steps[log.stem] = int(match.group(1))
-    tick_tables = [per_tick_ms(window.cpu_by_group(), steps.get(name, 0))
-                   for name, window in thread_windows.items() if steps.get(name, 0) > 0]
+            rate_by_agent[log.stem] = float(match.group(2))
+    steps = {name: rate_by_agent.get(name, 0.0) * speed * window.wall_s for name, window in thread_windows.items()}
+    tick_tables = [per_tick_ms(window.cpu_by_group(), steps[name])
+                   for name, window in thread_windows.items() if steps[name] > 0]
     tick_by_thread = median_table(t for t in tick_tables if t)
+    wakeups_by_thread = median_table(per_tick(window.wakeups_by_group(), steps[name])
+                                     for name, window in thread_windows.items() if steps[name] > 0)
+    process_tick = [1000.0 * (last_cpu[name] - start_cpu[name]) / steps[name] for name in thread_windows
+                    if steps[name] > 0 and name in last_cpu]  # cross-check: includes threads that ended in between
     reference_tick: dict[str, float] = {}
     reference_name = ""
     if reference is not None:
@@ -139,7 +155,7 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         for name, window in thread_windows.items():
             if window.pid == ref_pid:
                 reference_name = name
-                reference_tick = per_tick_ms(window.cpu_by_group(ref_labels), steps.get(name, 0))
+                reference_tick = per_tick_ms(window.cpu_by_group(ref_labels), steps[name])
     agent_pss = [statistics.median(v) for k, v in pss_samples.items() if v]
     sim_log = (out_dir / "sim.log").read_text(errors="replace") if (out_dir / "sim.log").exists() else ""
     cam_log = (out_dir / "cameras.log").read_text(errors="replace") if (out_dir / "cameras.log").exists() else ""
@@ -168,6 +184,8 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         "agent_pss_mb_median": statistics.median(agent_pss) if agent_pss else float("nan"),
         "agent_ms_per_tick": tick_by_thread.get("total", float("nan")),
         "agent_ms_per_tick_by_thread": tick_by_thread,
+        "agent_wakeups_per_tick_by_thread": wakeups_by_thread,
+        "agent_ms_per_tick_process": statistics.median(process_tick) if process_tick else float("nan"),
         "reference_agent": reference_name,
         "reference_agent_ms_per_tick_by_thread": reference_tick,
         "sim_cpu_pct": cpu_pct.get("sim", float("nan")),
