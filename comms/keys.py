@@ -17,7 +17,12 @@ Internal (simulation and mission plumbing):
 * ``floodwatch/<mission>/radio/stats`` — ``RadioLinkStats`` (per-link counters);
 * ``floodwatch/<mission>/uav/<id>/edge`` — ``BoundaryEdgePoints`` seen by a boundary drone;
 * ``floodwatch/<mission>/gcs/command`` — ``MissionCommand`` (state-carrying, so newest-wins is right);
-* ``floodwatch/<mission>/gcs/events`` — ``PeerEvent`` (a vehicle declared dead or stale by the ground station).
+* ``floodwatch/<mission>/gcs/events`` — ``PeerEvent`` (a vehicle declared dead or stale by the ground station);
+* ``floodwatch/<mission>/sim/clock`` — ``SimClockTick``: the paced simulation clock reached a control tick;
+* ``floodwatch/<mission>/sim/pace/<participant>`` — ``PaceAck``: an agent (vehicle id), the cameras or the radio
+  has done its part for a tick;
+* ``floodwatch/<mission>/sim/pace_report`` — ``PaceReport``: real-time factor, waits, participants left behind;
+* ``floodwatch/<mission>/sim/camera_stats`` — ``CameraStats``: the camera process's achieved frame rate.
 """
 
 from __future__ import annotations
@@ -110,6 +115,29 @@ class MissionKeys:
     @property
     def events(self) -> str:
         return f"{self.prefix}/gcs/events"
+
+    @property
+    def clock(self) -> str:
+        return f"{self.prefix}/sim/clock"
+
+    def pace(self, participant: int | str) -> str:
+        """Where ``participant`` (a vehicle id, ``cameras`` or ``radio``) acknowledges the ticks it has done."""
+        name = str(participant)
+        if not _SERVICE_RE.match(name):
+            raise KeyNameError(f"participant name {name!r}: use letters, digits, '_', '.', '-'")
+        return f"{self.prefix}/sim/pace/{name}"
+
+    @property
+    def all_pace(self) -> str:
+        return f"{self.prefix}/sim/pace/*"
+
+    @property
+    def pace_report(self) -> str:
+        return f"{self.prefix}/sim/pace_report"
+
+    @property
+    def camera_stats(self) -> str:
+        return f"{self.prefix}/sim/camera_stats"
 
     @property
     def everything(self) -> str:

@@ -30,6 +30,9 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--jitter-s", type=float, default=0.0, help="extra uniform delay width [s, sim time]")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--speed", type=float, default=1.0, help="simulation seconds per wall second")
+    parser.add_argument("--clock", choices=("free", "paced"), default="free",
+                        help="paced: delays in mission time on the truth's clock, each truth acknowledged once "
+                             "everything due by then is delivered; free: delays on the wall clock / --speed")
     parser.add_argument("--stats-period-s", type=float, default=1.0, help="how often per-link counters are published")
     parser.add_argument("--tick-s", type=float, default=0.005, help="delivery cycle: batches messages (adds up to this much latency)")
     parser.add_argument("--duration-s", type=float, default=None, help="stop after this many wall seconds")
@@ -50,6 +53,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             speed=args.speed,
             stats_period_s=args.stats_period_s,
             tick_s=args.tick_s,
+            paced=args.clock == "paced",
         )
     except (ValueError, KeyNameError) as error:
         print(f"comms.radio: {error}", file=sys.stderr)

@@ -12,6 +12,12 @@ receiver per tick on ``floodwatch/<m>/radio/<rid>/inbox``.
 
 ``RadioRelay`` is the logic without Zenoh or clocks (time is passed in); ``RadioEmulator`` is the thin shell that
 runs it on a thread against a ``ZenohSession``.
+
+With a paced simulation clock (``paced``) the relay's clock is mission time itself: a message is received at the
+time of the newest truth (the tick it was sent in), delays are mission seconds, and on each new truth the emulator
+first takes the messages sent in the previous tick, decides them on the positions they were sent from, delivers
+everything due by the new truth's time and then acknowledges that time on ``sim/pace/radio``
+(:mod:`mock_autopilot.pacing`): the neighbours' inboxes for a tick are complete before any agent computes it.
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ from comms.messages import (
     DecodeStats,
     GroundTruth,
     NeighbourState,
+    PaceAck,
     RadioBundle,
     RadioLinkStats,
     decode,
@@ -245,6 +252,8 @@ class RadioEmulatorConfig:
     stats_period_s: float = 1.0
     max_wait_s: float = 0.05
     tick_s: float = 0.005  # at most one delivery cycle per tick: batches messages, bounds puts per second
+    paced: bool = False
+    """Mission time from the truth stream, and each truth acknowledged (a paced simulation clock)."""
 
 
 class RadioEmulator:
@@ -258,7 +267,7 @@ class RadioEmulator:
         self.keys = MissionKeys(config.mission)
         self._own_session = session is None
         self.session = ZenohSession(config.zenoh) if session is None else session
-        self.relay = RadioRelay(config.radio, speed=config.speed)
+        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed)
         self.bundles_out = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -300,6 +309,9 @@ class RadioEmulator:
         self._run()
 
     def _run(self) -> None:
+        if self.config.paced:
+            self._run_paced()
+            return
         relay, keys, session, cfg = self.relay, self.keys, self.session, self.config
         next_stats = time.monotonic() + cfg.stats_period_s
         last_cycle = 0.0
@@ -330,6 +342,36 @@ class RadioEmulator:
                 if last_cycle >= next_stats:
                     session.put(keys.radio_stats, encode(relay.link_stats(t_s)))
                     next_stats = last_cycle + cfg.stats_period_s
+        except BaseException as error:  # surfaced to the owner; the CLI exits non-zero
+            self.error = error
+            raise
+
+    def _run_paced(self) -> None:
+        """One delivery cycle per truth, on mission time: states of the last tick, then the truth, then deliveries."""
+        relay, keys, session, cfg = self.relay, self.keys, self.session, self.config
+        next_stats = time.monotonic() + cfg.stats_period_s
+        try:
+            while not self._stop.is_set():
+                self._buffer.wait(cfg.max_wait_s)
+                items = self._buffer.drain()
+                sent_at_s = relay.truth_t_s or 0.0
+                for item in items:
+                    if item.key != keys.truth and item.kind == "put":
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s)
+                truth = None
+                for item in items:
+                    if item.key == keys.truth:
+                        truth = decode(GroundTruth, item.payload, relay.stats)
+                if truth is None or (relay.truth_t_s is not None and truth.t_s <= relay.truth_t_s):
+                    continue
+                relay.on_truth(truth)
+                for receiver, entries in relay.pop_due(truth.t_s).items():
+                    session.put(keys.inbox(receiver), encode(RadioBundle(t_s=truth.t_s, entries=entries)))
+                    self.bundles_out += 1
+                session.put(keys.pace("radio"), encode(PaceAck(participant="radio", t_s=truth.t_s)))
+                if time.monotonic() >= next_stats:
+                    session.put(keys.radio_stats, encode(relay.link_stats(truth.t_s)))
+                    next_stats = time.monotonic() + cfg.stats_period_s
         except BaseException as error:  # surfaced to the owner; the CLI exits non-zero
             self.error = error
             raise

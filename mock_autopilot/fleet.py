@@ -8,7 +8,10 @@ Usage from Python (tests, the mission's simulator bridge)::
         fleet.drop_counters()          # per vehicle, per link, per reason
 
 The loop ticks every vehicle (physics, timers, due telemetry) at the period the fastest stream needs in wall time
-(1 / (rate x speed), between 5 and 20 ms) unless ``tick_period_s`` is given. Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i (skipping the GCS port, see ``ports.py``) and its GCS link
+(1 / (rate x speed), between 5 and 20 ms) unless ``tick_period_s`` is given. With ``initial_gate_s`` the clock is
+paced (:mod:`mock_autopilot.clock`): :meth:`Fleet.set_gate` lets it run on, the loop ticks at once when the gate
+moves, ``last_tick_t_s`` tells when physics and telemetry have reached the gate, and heartbeats keep going on the
+wall clock while simulated time stands still (a slow paced run must not look like a lost link). Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i (skipping the GCS port, see ``ports.py``) and its GCS link
 to 127.0.0.1:gcs_port (PX4 SITL conventions). Each link binds its own local port (ephemeral by default, PX4's
 14580+i / 18570+i with ``px4_local_ports=True``).
 """
@@ -17,6 +20,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import math
 import threading
 import time
 from dataclasses import dataclass, replace
@@ -31,6 +35,7 @@ from mock_autopilot.faults import FaultSpec
 from mock_autopilot.mavlink_codec import LinkCodec, SigningState
 from mock_autopilot.ports import onboard_port
 from mock_autopilot.px4_streams import GCS, LINKS, ONBOARD, STREAM_PROFILES
+from mock_autopilot.telemetry import heartbeat
 from mock_autopilot.udp_link import UdpLink
 from mock_autopilot.vehicle import Outgoing, Vehicle, VehicleConfig
 
@@ -40,6 +45,8 @@ PX4_ONBOARD_LOCAL_BASE_PORT = 14580
 PX4_GCS_LOCAL_BASE_PORT = 18570
 MIN_TICK_PERIOD_S = 0.005
 MAX_TICK_PERIOD_S = 0.02
+WALL_HEARTBEAT_PERIOD_S = 1.0
+"""A paced fleet's vehicles send a HEARTBEAT at least this often on the wall clock (PX4's 1 Hz)."""
 
 
 @dataclass(frozen=True)
@@ -87,6 +94,7 @@ class Fleet:
         signing_key: bytes | None = None,
         tick_period_s: float | None = None,
         faults: Sequence[FaultSpec] = (),
+        initial_gate_s: float = math.inf,
     ) -> None:
         configs = [VehicleConfig(i) for i in range(vehicles)] if isinstance(vehicles, int) else list(vehicles)
         if not configs:
@@ -108,7 +116,9 @@ class Fleet:
             fastest_hz = max(hz for c in configs for link in STREAM_PROFILES[c.stream_profile].values() for hz in link.values())
             tick_period_s = min(MAX_TICK_PERIOD_S, max(MIN_TICK_PERIOD_S, 1.0 / (fastest_hz * speed)))
         self.tick_period_s = tick_period_s
-        self.clock = SimClock(speed)
+        self._initial_gate_s = initial_gate_s
+        self.paced = math.isfinite(initial_gate_s)
+        self.clock = SimClock(speed, gate_s=initial_gate_s)
         self._speed = speed
         self._faults = sorted(faults, key=lambda f: f.at_s)
         for f in self._faults:
@@ -123,6 +133,10 @@ class Fleet:
         self._start_error: BaseException | None = None
         self.tick_overruns = 0
         self.ticks = 0
+        self.last_tick_t_s = -math.inf
+        """Simulated time of the newest completed tick: physics and due telemetry are out up to here."""
+        self._wake: asyncio.Event | None = None
+        self._heartbeat_wall_s: list[float] = []
 
     # ------------------------------------------------------------------ lifecycle
     def __enter__(self) -> Fleet:
@@ -173,7 +187,8 @@ class Fleet:
 
     async def _main(self) -> None:
         self._stop = asyncio.Event()
-        self.clock = SimClock(self._speed)
+        self._wake = asyncio.Event()
+        self.clock = SimClock(self._speed, gate_s=self._initial_gate_s)
         self.vehicles, self.links = [], []
         now = self.clock.now_s()
         try:
@@ -225,6 +240,8 @@ class Fleet:
             return
         links = self.links[i]
         for item in outgoing:
+            if self.paced and item.message.get_type() == "HEARTBEAT":
+                self._heartbeat_wall_s[i] = time.monotonic()
             if item.link is None:
                 for link in links.values():
                     link.send(item.message)
@@ -234,21 +251,52 @@ class Fleet:
             link.flush()
 
     async def _run_ticks(self) -> None:
-        assert self._stop is not None
+        assert self._stop is not None and self._wake is not None
         next_wall = time.monotonic()
+        self._heartbeat_wall_s = [next_wall] * len(self.vehicles)
         while not self._stop.is_set():
             now = self.clock.now_s()
             self._apply_due_faults(now)
-            for i, vehicle in enumerate(self.vehicles):
-                self._dispatch(i, vehicle.tick(now))
+            if now > self.last_tick_t_s or not self.paced:  # a paced clock standing still changes nothing
+                for i, vehicle in enumerate(self.vehicles):
+                    self._dispatch(i, vehicle.tick(now))
+            if self.paced:
+                self._wall_heartbeats()
             self.ticks += 1
+            self.last_tick_t_s = now
             next_wall += self.tick_period_s
             delay = next_wall - time.monotonic()
             if delay < 0:
                 self.tick_overruns += 1
                 next_wall = time.monotonic()
                 delay = 0.0
-            await asyncio.sleep(delay)  # stop is noticed within one tick; cheaper than wait_for on the event
+            if not self.paced:
+                await asyncio.sleep(delay)  # stop is noticed within one tick; cheaper than wait_for on the event
+                continue
+            self._wake.clear()
+            try:
+                await asyncio.wait_for(self._wake.wait(), delay)
+                next_wall = time.monotonic()
+            except asyncio.TimeoutError:
+                pass
+
+    def _wall_heartbeats(self) -> None:
+        """While a paced clock stands still, simulated-time streams stop; the heartbeat goes on at 1 Hz of wall time."""
+        wall_s = time.monotonic()
+        for i, vehicle in enumerate(self.vehicles):
+            if vehicle.killed or wall_s - self._heartbeat_wall_s[i] < WALL_HEARTBEAT_PERIOD_S:
+                continue
+            self._heartbeat_wall_s[i] = wall_s
+            message = heartbeat(vehicle, self.clock.now_s())
+            for link in self.links[i].values():
+                link.send(message)
+                link.flush()
+
+    def set_gate(self, gate_s: float) -> None:
+        """Let a paced clock run up to ``gate_s`` and tick at once (thread-safe)."""
+        self.clock.set_gate(gate_s)
+        if self._loop is not None and self._wake is not None:
+            self._loop.call_soon_threadsafe(self._wake.set)
 
     def _apply_due_faults(self, now_s: float) -> None:
         while self._faults and self._faults[0].at_s <= now_s:

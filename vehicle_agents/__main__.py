@@ -53,6 +53,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--neighbours", choices=("radio", "direct"), default="radio",
                    help="hear neighbours through the radio emulator (simulation) or directly (real radio)")
     p.add_argument("--speed", type=float, default=1.0, help="simulation speed factor (mission s per wall s)")
+    p.add_argument("--clock", choices=("free", "paced"), default="free",
+                   help="free: keep time on the wall clock (a real drone); paced: compute one tick per simulator "
+                        "clock tick and acknowledge it (a simulation run with --clock paced)")
     p.add_argument("--rate-hz", type=float, help="control rate in mission time (default: the plan's)")
     p.add_argument("--connect-timeout", type=float, default=30.0, help="wall seconds to wait for the autopilot")
     p.add_argument("--link-timeout", type=float, default=2.0, help="wall seconds of autopilot silence = vehicle lost")
@@ -78,7 +81,7 @@ def load_agent_plan(args: argparse.Namespace) -> AgentPlan:
     return agent_plan(scenario, args.vehicle_id, args.mode or "improved")
 
 
-def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float = 1.0,
+def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float = 1.0, paced: bool = False,
                  connect_timeout_s: float = 30.0, link_timeout_s: float = 2.0) -> AgentConfig:
     """The agent's configuration from its plan; ``rate_hz`` overrides the plan's control rate."""
     vehicle = plan.vehicle
@@ -96,6 +99,7 @@ def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float 
         params=plan.params,
         control_rate_hz=control_rate_hz,
         speed=speed,
+        paced=paced,
         connect_timeout_s=connect_timeout_s,
         limits=PhaseLimits(takeoff_altitude_m=plan.altitude_m, link_timeout_s=link_timeout_s),
     )
@@ -107,8 +111,8 @@ def config_from_args(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
     if args.role is not None and args.role != plan.vehicle.role:
         vehicle = plan.vehicle
         raise ScenarioError(f"--role {args.role}: the plan has vehicle {vehicle.vehicle_id} as {vehicle.role}")
-    config = agent_config(plan, rate_hz=args.rate_hz, speed=args.speed, connect_timeout_s=args.connect_timeout,
-                          link_timeout_s=args.link_timeout)
+    config = agent_config(plan, rate_hz=args.rate_hz, speed=args.speed, paced=args.clock == "paced",
+                          connect_timeout_s=args.connect_timeout, link_timeout_s=args.link_timeout)
     mission = validate_mission(args.mission or plan.mission)
     url = args.mavlink or f"udpin://0.0.0.0:{args.mavlink_base_port + config.vehicle_id - 1}"
     return config, mission, url
@@ -147,12 +151,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ZenohOpenError as exc:
         print(f"vehicle_agents: vehicle {config.vehicle_id}: {exc}", file=sys.stderr)
         return EXIT_START_FAILED
-    agent = Agent(config, _make_link(args.link, url), swarm)
+    from vehicle_agents.sim_clock_link import SimClockLink
+
+    sim_clock = SimClockLink(swarm.session, swarm.keys, config.vehicle_id)
+    agent = Agent(config, _make_link(args.link, url), swarm, sim_clock)
     code = asyncio.run(_run(agent))
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(
         "vehicle %d exits with %d: %d control steps (%.1f Hz mission time), %d overruns, %d frames processed, "
-        "%d frames missed", config.vehicle_id, code, stats.control_steps, stats.control_rate_hz(config.speed),
+        "%d frames missed", config.vehicle_id, code, stats.control_steps, stats.control_rate_hz(),
         stats.overruns, stats.frames_processed, stats.frames_dropped)
     return code
 

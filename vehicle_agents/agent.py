@@ -5,6 +5,13 @@ the newest camera frame, the radio inbox and the ground station's order, calls t
 (:func:`vehicle_agents.core.onboard.onboard_step`, the same call the lockstep engine makes for the whole fleet), and
 does what the core decided: arm, take off, start OFFBOARD, hover or stream the control law's velocity setpoint, and
 broadcast the state message. It exits on a stop, after landing, or when its autopilot falls silent (exit code 3).
+
+Its time comes from one of two clocks. Free (a real drone, or ``--clock free``): it keeps its own mission clock and
+runs the loop on the wall clock. Paced (a simulation with ``--clock paced``): it computes one tick for each clock
+tick the simulator publishes, at that tick's mission time, and acknowledges it once the setpoint and the state
+message are out (:class:`~vehicle_agents.sim_clock_link.SimClockLink`); the simulator waits for that before it moves
+its vehicles on. Both clocks acknowledge each tick when a clock link is given, so the simulator can measure the
+agent's achieved rate.
 """
 
 from __future__ import annotations
@@ -26,6 +33,7 @@ from vehicle_agents.flight_phase import Action, Command, Phase, PhaseLimits
 from vehicle_agents.mission_clock import MissionClock
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import perceive
+from vehicle_agents.sim_clock_link import SimClockLink
 from vehicle_agents.swarm_port import SwarmPort
 
 log = logging.getLogger("vehicle_agents")
@@ -34,6 +42,8 @@ EXIT_OK = 0
 EXIT_LINK_LOST = 3
 EXIT_START_FAILED = 4
 _RETRY_COOLDOWN_S = 1.0
+_CLOCK_POLL_S = 0.2
+"""Paced clock: how often [wall s] a wait for the next clock tick looks at the stop flag."""
 _COMMANDS = {"start": Command.START, "resume": Command.START, "hold": Command.HOLD, "land": Command.LAND,
              "abort": Command.LAND}
 
@@ -50,6 +60,8 @@ class AgentConfig:
     params: ControlParams
     control_rate_hz: float = 20.0
     speed: float = 1.0
+    paced: bool = False
+    """Tick on the simulator's clock ticks (``--clock paced``) instead of the agent's own wall-clock loop."""
     connect_timeout_s: float = 30.0
     limits: PhaseLimits = field(default_factory=PhaseLimits)
 
@@ -63,15 +75,15 @@ class AgentStats:
     frames_processed: int = 0
     frames_dropped: int = 0
     step_wall_s: list[float] = field(default_factory=list)
-    mission_wall_start_s: float | None = None
-    mission_wall_end_s: float | None = None
+    mission_start_t_s: float | None = None
+    mission_end_t_s: float | None = None
 
-    def control_rate_hz(self, speed: float) -> float:
+    def control_rate_hz(self) -> float:
         """Achieved control steps per mission second over the MISSION phase."""
-        if self.mission_wall_start_s is None or self.mission_wall_end_s is None:
+        if self.mission_start_t_s is None or self.mission_end_t_s is None:
             return float("nan")
-        wall_s = self.mission_wall_end_s - self.mission_wall_start_s
-        return self.control_steps / (wall_s * speed) if wall_s > 0 else float("nan")
+        span_s = self.mission_end_t_s - self.mission_start_t_s
+        return self.control_steps / span_s if span_s > 0 else float("nan")
 
 
 def decode_image(frame: CameraFrame) -> np.ndarray | None:
@@ -85,10 +97,14 @@ def decode_image(frame: CameraFrame) -> np.ndarray | None:
 class Agent:
     """The onboard loop; :meth:`run` returns the process exit code."""
 
-    def __init__(self, config: AgentConfig, link: AutopilotLink, swarm: SwarmPort) -> None:
+    def __init__(self, config: AgentConfig, link: AutopilotLink, swarm: SwarmPort,
+                 sim_clock: SimClockLink | None = None) -> None:
+        if config.paced and sim_clock is None:
+            raise ValueError("a paced agent needs the simulator's clock link")
         self.config = config
         self.link = link
         self.swarm = swarm
+        self.sim_clock = sim_clock
         self.clock = MissionClock(config.speed)
         self.stats = AgentStats()
         self.plan = OnboardPlan(vehicle_ids=(config.vehicle_id,), roles=(config.role,), pads_en_m=(config.pad_enu_m,),
@@ -103,6 +119,7 @@ class Agent:
         self._retry_after_s: dict[Action, float] = {}
         self._last_setpoint: tuple[tuple[float, float, float], float] | None = None
         self._stop_requested = False
+        self._t_s = 0.0
 
     @property
     def phase(self) -> Phase:
@@ -132,11 +149,13 @@ class Agent:
         next_tick_s = time.monotonic()
         exit_code = EXIT_OK
         while True:
+            t_s = await self._next_paced_tick() if cfg.paced else self.clock.now_s()
+            self._t_s = t_s
             started = time.monotonic()
             order = self._read_order(started)
             self._update_perception()
             inputs = OnboardInputs(
-                t_s=self.clock.now_s(),
+                t_s=t_s,
                 telemetry=telemetry_batch([self.link.telemetry], started),
                 perception=(self._perception,),
                 inbox=(self.swarm.take_inbox(),),
@@ -165,10 +184,14 @@ class Agent:
                                 float(outputs.yaw_ned_rad[0]))
             if message is not None:
                 self.swarm.publish_state(message)
+            if self.sim_clock is not None:
+                self.sim_clock.acknowledge(t_s)
             if action is Action.FLY:
                 self.stats.control_steps += 1
             if self.phase is Phase.MISSION:
                 self.stats.step_wall_s.append(time.monotonic() - started)
+            if cfg.paced:
+                continue
             next_tick_s += period_wall_s
             delay_s = next_tick_s - time.monotonic()
             if delay_s < 0:
@@ -176,15 +199,31 @@ class Agent:
                 next_tick_s = time.monotonic()
                 delay_s = 0.0
             await asyncio.sleep(delay_s)
-        if self.stats.mission_wall_start_s is not None and self.stats.mission_wall_end_s is None:
-            self.stats.mission_wall_end_s = time.monotonic()
+        if self.stats.mission_start_t_s is not None and self.stats.mission_end_t_s is None:
+            self.stats.mission_end_t_s = self._t_s
+        if self.sim_clock is not None:
+            self.sim_clock.acknowledge(self._t_s, leaving=True)
         return exit_code
+
+    async def _next_paced_tick(self) -> float:
+        """Mission time of the next clock tick to compute (each tick is computed at its own time).
+
+        A stop request does not wait for the simulator: it gets a tick one period on, so the core can say goodbye
+        (the state message with the leaving flag) even when the clock has stopped.
+        """
+        assert self.sim_clock is not None
+        while True:
+            tick = await self.sim_clock.tick_after(self._t_s, _CLOCK_POLL_S)
+            if tick is not None:
+                return tick.t_s
+            if self._stop_requested:
+                return self._t_s + 1.0 / self.config.control_rate_hz
 
     def _on_transition(self, old: Phase, new: Phase) -> None:
         if new is Phase.MISSION:
-            self.stats.mission_wall_start_s = time.monotonic()
+            self.stats.mission_start_t_s = self._t_s
         if old is Phase.MISSION:
-            self.stats.mission_wall_end_s = time.monotonic()
+            self.stats.mission_end_t_s = self._t_s
 
     def _read_order(self, now_wall_s: float) -> GroundOrder:
         """The ground station's newest order addressed to this vehicle, aged on the wall clock."""

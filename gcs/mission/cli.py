@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
-from gcs.mission.options import BACKENDS, ENGINES, MissionOptions
+from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
 from vehicle_agents.control.params import MODES
@@ -30,7 +30,17 @@ def build_parser() -> argparse.ArgumentParser:
                         help="control laws: improved (default) or paper, the laws as printed (docs/RESULTS.md)")
     parser.add_argument("--seed", type=int, default=None, help="seed for the flood, camera noise and radio")
     parser.add_argument("--duration", type=float, default=None, metavar="S", help="simulated seconds (default: scenario)")
-    parser.add_argument("--speed", type=float, default=1.0, metavar="S", help="simulation speed-up (processes engine)")
+    parser.add_argument("--speed", type=float, default=1.0, metavar="S",
+                        help="simulation speed-up (processes engine; with the paced clock the most it runs at)")
+    parser.add_argument("--clock", choices=CLOCKS, default=None,
+                        help="processes engine: paced (default) holds each control tick until every live agent, the "
+                             "cameras and the radio have done theirs, so a slow host gives a slower run, never a "
+                             "different one; free runs at --speed whatever they do (real-time faults)")
+    parser.add_argument("--agent-timeout-s", type=float, default=2.0, metavar="S",
+                        help="paced clock: wall seconds an agent may hold a tick before it is left behind (default 2)")
+    parser.add_argument("--strict", action="store_true",
+                        help="exit 1 when the engine was degraded (agents or cameras below their rate, agents left "
+                             "behind), not only when the mission failed")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR",
                         help="output folder (default runs/<timestamp>-<scenario>-<engine>-<mode>)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
@@ -60,13 +70,18 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
     for name in ("base_port", "gcs_port"):
         if not 1 <= getattr(ns, name) <= 65535:
             _fail(f"--{name.replace('_', '-')}: must be a port number, got {getattr(ns, name)}")
+    if not ns.agent_timeout_s > 0.0:
+        _fail(f"--agent-timeout-s: must be > 0, got {ns.agent_timeout_s:g}")
+    if ns.clock is not None and ns.engine != "processes":
+        _fail(f"--clock {ns.clock}: only the processes engine has a clock to choose (lockstep is one loop)")
     if ns.backend is not None and ns.engine != "lockstep":
         _fail(f"--backend {ns.backend}: only the lockstep engine has a choice (processes fly the mock PX4 fleet)")
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
     return MissionOptions(
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
-        backend=ns.backend or "kinematic",
+        backend=ns.backend or "kinematic", clock=ns.clock or "paced", agent_timeout_s=ns.agent_timeout_s,
+        strict=ns.strict,
     )
 
 

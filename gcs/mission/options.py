@@ -6,6 +6,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ENGINES = ("processes", "lockstep")
+CLOCKS = ("paced", "free")
+"""The processes engine's simulation clock: ``paced`` waits at each control tick for every live agent, the
+cameras and the radio (``mock_autopilot.pacing``); ``free`` runs at ``--speed`` whatever they do (for testing
+real-time faults)."""
 BACKENDS = ("kinematic", "px4")
 """Vehicle dynamics of a lockstep run (``gcs.lockstep.backend_choice.BackendKind``); the processes engine always
 flies the mock PX4 fleet."""
@@ -33,3 +37,8 @@ class MissionOptions:
     live: bool = True
     backend: str = "kinematic"
     """Lockstep only: ``kinematic`` (default) or ``px4`` (the mock PX4's mode logic and failsafes in the loop)."""
+    clock: str = "paced"
+    agent_timeout_s: float = 2.0
+    """Paced clock: wall seconds an agent may hold a tick before the clock goes on without it."""
+    strict: bool = False
+    """Exit non-zero when the engine was degraded (an agent or the cameras did not keep their rate)."""

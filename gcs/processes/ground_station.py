@@ -10,7 +10,13 @@ Sequence (SPEC §1, §6):
 4. TAKEOFF: the agents arm, take off and switch to OFFBOARD on their own; when the GCS link shows every vehicle
    armed, airborne and in OFFBOARD, the ground station starts the flood clock and commands ``start``;
 5. MISSION: records ground truth, aggregates and publishes the caged polygon, reports vehicles and agents lost;
-6. at the end of the flood clock it commands ``hold``, stops every process and writes the outputs.
+6. at the end of the flood clock it commands ``hold``, stops every process and writes the outputs, with two
+   verdicts (:mod:`gcs.processes.run_verdict`): engine health from the simulator's pace report and the cameras'
+   frame rate, and safety from the failsafes announced and the closest approach.
+
+The simulation clock is paced by default (``--clock paced``, :mod:`mock_autopilot.pacing`): the fleet holds each
+control tick until every live agent, the cameras and the radio have acknowledged it. Watchdogs stay on the wall
+clock (the vehicles' heartbeats go on while simulated time stands still), so a slow paced run is never a lost link.
 
 Any failure (a child that dies early, a timeout, Ctrl-C) ends the run with one clear message and a non-zero exit
 code; every path stops every child and writes what was recorded.
@@ -34,7 +40,17 @@ from rich.console import Console
 from rich.live import Live
 
 from comms.keys import MissionKeys
-from comms.messages import FLAG_SEES_EDGE, GroundTruth, MissionCommand, NeighbourState, decode, encode, flood_polygon_from_enu
+from comms.messages import (
+    FLAG_SEES_EDGE,
+    CameraStats,
+    GroundTruth,
+    MissionCommand,
+    NeighbourState,
+    PaceReport,
+    decode,
+    encode,
+    flood_polygon_from_enu,
+)
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage
@@ -49,8 +65,10 @@ from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.processes.recorder import MissionRecorder
+from gcs.processes.run_verdict import EngineHealth, engine_verdict, safety_verdict
 from gcs.processes.supervisor import Child, Supervisor
 from gcs.report import write_mission_outputs
+from gcs.report.outputs import write_metrics_json
 from gcs.report.polygon_log import PolygonLog
 from gcs.scenario import Scenario
 from mock_autopilot.world.config import flood_model_from_config
@@ -115,6 +133,10 @@ class GroundStation:
         self.services: dict[str, Child] = {}
         self.flood_start_utc: dt.datetime | None = None
         self.polygon_log: PolygonLog | None = None
+        self.pace_report: PaceReport | None = None
+        self.camera_stats: CameraStats | None = None
+        self._left_behind_counts: dict[str, int] = {}
+        self.failsafes: list[str] = []
         self._interrupted = False
         self._exited_agents: set[int] = set()
         self._silent_vehicles: set[int] = set()
@@ -159,19 +181,21 @@ class GroundStation:
             self.supervisor.stop_all()
             self._report_exits()
             if watcher is not None:
+                self.failsafes = list(watcher.failsafes)
                 watcher.close()
             if hub is not None:
                 hub.close()
             if self.polygon_log is not None:
                 self.polygon_log.close()
-            self._finish(code)
+            code = self._finish(code)
             self.events.close()
         return code
 
     def _warn_if_host_too_small(self) -> None:
         estimate = estimate_capacity(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed,
                                      len(os.sched_getaffinity(0)))
-        warning = estimate.warning(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed)
+        warning = estimate.warning(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed,
+                                   paced=self.options.clock == "paced")
         if warning is not None:
             self.events(warning)
             self.console.print(f"[bold yellow]{warning}[/]")
@@ -206,6 +230,8 @@ class GroundStation:
     # ------------------------------------------------------------------ the loop
     async def _watch(self, hub: ZenohSession, watcher: MavlinkWatcher) -> int:
         truth_buf = hub.subscribe(self.keys.truth)
+        pace_buf = hub.subscribe(self.keys.pace_report)
+        hub.subscribe(self.keys.camera_stats, pace_buf)
         link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
         started_wall_s = time.monotonic()
         takeoff_deadline_s: float | None = None
@@ -229,6 +255,7 @@ class GroundStation:
                         self.truth = truth
                         self.mission_t_s = truth.t_s
                 self._poll_swarm(link)
+                self._poll_pace(pace_buf)
                 self._check_children()
                 self._check_vehicles(watcher, now_wall_s)
                 if self.phase == "starting":
@@ -237,7 +264,7 @@ class GroundStation:
                         takeoff_deadline_s = self.mission_t_s + self.options.takeoff_timeout_s
                         self.events(f"all {len(self.vehicle_ids)} vehicles and agents up after "
                                     f"{now_wall_s - started_wall_s:.1f} s: taking off")
-                    elif now_wall_s - started_wall_s > self.options.startup_timeout_s:
+                    elif now_wall_s - started_wall_s > self._startup_timeout_s():
                         raise MissionFailed(self._startup_problem(watcher))
                 elif self.phase == "takeoff":
                     if self._everyone_in_offboard(watcher):
@@ -292,7 +319,31 @@ class GroundStation:
                              phase=self.phase, flood_clock_start_t_s=self.flood_clock_start_s)
         hub.put(self.keys.command, encode(msg))
 
+    def _startup_timeout_s(self) -> float:
+        """Wall seconds for every child to come up: the option, or more on a machine that must start many agents
+        (each costs about a second of CPU to import and connect)."""
+        cores = len(os.sched_getaffinity(0))
+        return max(self.options.startup_timeout_s, 30.0 + 1.5 * len(self.vehicle_ids) / cores)
+
     # ------------------------------------------------------------------ what is going on
+    def _poll_pace(self, buf) -> None:  # noqa: ANN001 - a LatestValueBuffer
+        """The simulator's pace report and the cameras' frame rate; an agent newly left behind is an event."""
+        for item in buf.drain():
+            if item.key == self.keys.pace_report:
+                report = decode(PaceReport, item.payload)
+                if report is None:
+                    continue
+                self.pace_report = report
+                for p in report.participants:
+                    if p.times_left_behind > self._left_behind_counts.get(p.participant, 0):
+                        self.events(f"{'agent ' if p.participant.isdigit() else ''}{p.participant} left behind by the "
+                                    f"paced clock (silent for {self.options.agent_timeout_s:g} s of wall time)")
+                    self._left_behind_counts[p.participant] = p.times_left_behind
+            else:
+                stats = decode(CameraStats, item.payload)
+                if stats is not None:
+                    self.camera_stats = stats
+
     def _poll_swarm(self, link: SwarmLink) -> None:
         update = link.poll()
         for state in update.states:
@@ -453,7 +504,8 @@ class GroundStation:
             flood_t_s=None if self.flood_clock_start_s is None else self.flood_time_s(), duration_s=self.duration_s,
             speed=self.options.speed, vehicles=tuple(rows), encircled=encircled, boundary_count=len(boundary),
             encircle_time_s=self.recorder.encircle_time_s, polygon_iou=self.polygon_iou, coverage=self.coverage,
-            polygon_area_m2=self.polygon_area_m2, events=tuple(self.events.recent),
+            polygon_area_m2=self.polygon_area_m2, events=tuple(self.events.recent), clock=self.options.clock,
+            real_time_factor=self.pace_report.recent_real_time_factor if self.pace_report else math.nan,
         )
 
     def _report_exits(self) -> None:
@@ -462,23 +514,30 @@ class GroundStation:
             if code not in (0, None, -signal.SIGTERM) and child.name not in {f"agent_{v}" for v in self._exited_agents}:
                 self.events(f"{child.name} ended with code {code}")
 
-    def _finish(self, code: int) -> None:
+    def _finish(self, code: int) -> int:
+        """Write the outputs and the verdicts; returns the exit code (``--strict``: 1 on a degraded engine)."""
+        engine = engine_verdict(self.pace_report, self.camera_stats, self.vehicle_ids, self.scenario.control_rate_hz,
+                                self.options.clock, cameras_expected=any(r == "boundary" for r in self.roles.values()))
+        self.events(f"{engine.text()}")
+        if code == EXIT_OK and self.options.strict and engine.health is EngineHealth.DEGRADED:
+            code = EXIT_FAILED
         self.recorder.events = list(self.events.entries)
         if len(self.recorder):
             self.recorder.save_snapshot(self.out_dir / "record.npz")
         if len(self.recorder) < 2:
-            self.console.print(f"no flight recorded; events and logs are in {self.out_dir}")
-            return
+            self.console.print(f"no flight recorded ({engine.text()}); events and logs are in {self.out_dir}")
+            return code
         try:
             write_mission_outputs(self.recorder.record(), self.flood, self.scenario.name, self.scenario.home,
                                   self.out_dir, self.scenario.camera.fov_deg, start_utc=self.flood_start_utc)
         except Exception as exc:  # noqa: BLE001 - the report must not hide the mission's own exit code
             self.console.print(f"[red]writing the report failed:[/] {exc}")
             print(f"gcs.processes: writing the report failed: {exc!r}", file=sys.stderr)
-            return
-        self._print_summary(code)
+            return code
+        self._print_summary(code, engine)
+        return code
 
-    def _print_summary(self, code: int) -> None:
+    def _print_summary(self, code: int, engine) -> None:  # noqa: ANN001 - an EngineVerdict
         metrics_path = self.out_dir / "metrics.json"
         if not metrics_path.exists():
             return
@@ -487,16 +546,22 @@ class GroundStation:
         except (OSError, ValueError):
             return
         summary = metrics.get("summary", metrics)
+        safety = safety_verdict(summary, self.failsafes)
+        self.events(safety.text())
+        metrics["engine"] = engine.as_json()
+        metrics["safety"] = safety.as_json()
+        write_metrics_json(metrics, metrics_path)
         keys = [k for k in ("encircle_time_s", "polygon_iou_final", "coverage_final", "spacing_cv_final",
                             "tracking_rms_last_10s_m", "min_pairwise_distance_m", "near_miss_pairs") if k in summary]
         shown = ", ".join(f"{k}={summary[k]:.3f}" if isinstance(summary[k], float) else f"{k}={summary[k]}" for k in keys)
         verdict = "complete" if code == EXIT_OK else "INCOMPLETE"
-        self.console.print(f"mission {verdict}: {shown}; outputs in {self.out_dir}")
+        self.console.print(f"metrics: {shown}; outputs in {self.out_dir}")
         for loss in metrics.get("losses", []):
             recovery = loss.get("recovery_time_s")
             recovered = f"spacing CV back under 0.1 after {recovery:.1f} s" if isinstance(recovery, float) else "no recovery"
             self.console.print(f"  vehicle {loss['vehicle_id']} ({loss['role']}) lost at flood time {loss['t_s']:.1f} s: "
                                f"{recovered}")
+        self.console.print(f"mission {verdict} | {engine.text()} | {safety.text()}")
 
 
 def _flood_box(flood, duration_s: float) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001

@@ -37,10 +37,18 @@ class CapacityEstimate:
     def fits(self) -> bool:
         return self.needed_cores <= WARN_ABOVE * self.available_cores
 
-    def warning(self, vehicles: int, control_rate_hz: float, speed: float) -> str | None:
-        """One line for the user when the mission is not expected to keep up, else None."""
+    def warning(self, vehicles: int, control_rate_hz: float, speed: float, paced: bool = False) -> str | None:
+        """One line for the user when the mission is not expected to keep up, else None.
+
+        With a paced clock nothing breaks, the run only slows down: the line says by about how much.
+        """
         if self.fits:
             return None
+        if paced:
+            factor = speed * WARN_ABOVE * self.available_cores / self.needed_cores
+            return (f"note: {vehicles} agents at {control_rate_hz:g} Hz x{speed:g} need about {self.needed_cores:.1f} "
+                    f"cores, this machine has {self.available_cores}: the paced clock will hold them, expect about "
+                    f"{factor:.1g}x real time")
         return (f"warning: {vehicles} agents at {control_rate_hz:g} Hz x{speed:g} need about {self.needed_cores:.1f} "
                 f"cores, this machine has {self.available_cores}: agents will fall behind and vehicles may pass too "
                 "close; lower --speed or control_rate_hz, or use --engine lockstep")

@@ -37,6 +37,12 @@ class ProcessOptions:
     takeoff_timeout_s: float = 120.0
     """Mission seconds from start-up until every vehicle is airborne in OFFBOARD."""
     agent_link: str = "mavsdk"
+    clock: str = "paced"
+    """``paced``: the fleet holds each control tick for every live agent, the cameras and the radio; ``free``: not."""
+    agent_timeout_s: float = 2.0
+    """Paced clock: wall seconds a participant may hold a tick before the clock goes on without it."""
+    strict: bool = False
+    """A degraded engine (rates not held, agents left behind) fails the run (exit 1)."""
     extra_agent_args: tuple[str, ...] = field(default=())
     sim_faults: tuple[str, ...] = field(default=())
     """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
@@ -47,7 +53,8 @@ def sim_command(options: ProcessOptions, plan: Path) -> list[str]:
     return [
         "mock_autopilot.sim_bridge", "--plan", str(plan), "--speed", f"{options.speed:g}",
         "--base-port", str(options.mavlink_base_port), "--gcs-port", str(options.gcs_port),
-        "--cameras", "none", "--connect", options.zenoh_endpoint,
+        "--cameras", "none", "--connect", options.zenoh_endpoint, "--clock", options.clock,
+        "--agent-timeout-s", f"{options.agent_timeout_s:g}",
         *[arg for fault in options.sim_faults for arg in ("--fault", fault)],
     ]
 
@@ -62,7 +69,7 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
     return [
         "comms.radio", "--mission", mission, "--range-m", f"{radio.range_m:g}", "--loss", f"{radio.loss:g}",
         "--latency-s", f"{radio.latency_s:g}", "--jitter-s", f"{radio.jitter_s:g}", "--seed", str(scenario.seed),
-        "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint,
+        "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, "--clock", options.clock,
     ]
 
 
@@ -71,5 +78,6 @@ def agent_command(options: ProcessOptions, vehicle_id: int, plan: Path) -> list[
     port = onboard_port(options.mavlink_base_port, vehicle_id - 1, options.gcs_port)
     return [
         "vehicle_agents", "--plan", str(plan), "--mavlink", f"udpin://0.0.0.0:{port}", "--link", options.agent_link,
-        "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, *options.extra_agent_args,
+        "--speed", f"{options.speed:g}", "--clock", options.clock, "--connect", options.zenoh_endpoint,
+        *options.extra_agent_args,
     ]

@@ -51,6 +51,9 @@ class MissionSnapshot:
     coverage: float = float("nan")
     polygon_area_m2: float = float("nan")
     events: tuple[str, ...] = field(default_factory=tuple)
+    clock: str = "free"
+    real_time_factor: float = float("nan")
+    """Mission seconds per wall second achieved over the last report period (the simulator's pace report)."""
 
 
 def _fmt(value: float, spec: str, missing: str = "-") -> str:
@@ -79,7 +82,8 @@ def render(snapshot: MissionSnapshot) -> RenderableType:
         (f"{snapshot.scenario} ", "bold"),
         (f"[{snapshot.mode}] ", "cyan"),
         (f"phase {snapshot.phase}  ", "bold magenta"),
-        f"mission time {snapshot.mission_t_s:6.1f} s  flood clock {flood}  speed x{snapshot.speed:g}\n",
+        f"mission time {snapshot.mission_t_s:6.1f} s  flood clock {flood}  speed x{snapshot.speed:g} "
+        f"({snapshot.clock} clock, achieved {_fmt(snapshot.real_time_factor, '.2f')}x)\n",
         f"{caging}   polygon IoU {_fmt(snapshot.polygon_iou, '.3f')}   coverage {_fmt(snapshot.coverage, '.3f')}   "
         f"polygon area {_fmt(snapshot.polygon_area_m2, '.0f')} m²",
     )
@@ -112,7 +116,8 @@ def status_line(snapshot: MissionSnapshot) -> str:
         modes[row.mode] = modes.get(row.mode, 0) + 1
     mode_text = ", ".join(f"{n} {m}" for m, n in sorted(modes.items()))
     return (
-        f"[{snapshot.phase}] t={snapshot.mission_t_s:.1f}s flood={flood}s encircled={snapshot.encircled}/"
+        f"[{snapshot.phase}] t={snapshot.mission_t_s:.1f}s flood={flood}s "
+        f"x{_fmt(snapshot.real_time_factor, '.2f')} {snapshot.clock} encircled={snapshot.encircled}/"
         f"{snapshot.boundary_count} IoU={_fmt(snapshot.polygon_iou, '.3f')} coverage={_fmt(snapshot.coverage, '.3f')} "
         f"vehicles: {mode_text}"
     )

@@ -72,6 +72,8 @@ class MavlinkWatcher(asyncio.DatagramProtocol):
         self._mav = mavlink2.MAVLink(None, srcSystem=_GCS_SYSTEM_ID, srcComponent=mavlink2.MAV_COMP_ID_MISSIONPLANNER)
         self._transport: asyncio.DatagramTransport | None = None
         self._tasks: list[asyncio.Task[None]] = []
+        self.failsafes: list[str] = []
+        """``vehicle <id>: <text>`` for every STATUSTEXT announcing a failsafe, as PX4 does when one triggers."""
 
     async def open(self, host: str, port: int) -> None:
         """Bind the GCS port; raises OSError (port in use) with the port in the message."""
@@ -135,8 +137,10 @@ class MavlinkWatcher(asyncio.DatagramProtocol):
         elif kind == "EXTENDED_SYS_STATE":
             vehicle.landed_state = _LANDED_STATES.get(msg.landed_state, str(msg.landed_state))
         elif kind == "STATUSTEXT":
-            text = msg.text if isinstance(msg.text, str) else bytes(msg.text).decode("utf-8", "replace")
-            self._on_event(f"vehicle {vehicle.system_id} says: {text.rstrip(chr(0))}")
+            text = (msg.text if isinstance(msg.text, str) else bytes(msg.text).decode("utf-8", "replace")).rstrip(chr(0))
+            self._on_event(f"vehicle {vehicle.system_id} says: {text}")
+            if text.lower().startswith("failsafe"):
+                self.failsafes.append(f"vehicle {vehicle.system_id}: {text}")
 
     async def _flush_loop(self) -> None:
         while True:

@@ -3,7 +3,9 @@
 Starts one simulated PX4 per planned vehicle (pads, GPS, home, velocity limits and response time from the fleet
 plan; system id = vehicle id; onboard link to ``--base-port + i``, GCS link to ``--gcs-port``) and, in the same
 process, the simulator bridge that publishes ground truth (and, unless ``--cameras none``, each vehicle's camera)
-over Zenoh. The ground station writes the fleet plan (``<run>/plan/fleet.json``); ``--scenario NAME`` resolves a
+over Zenoh. ``--clock paced`` (what the ground station runs) holds the fleet's clock at each control tick until the
+camera and radio processes and every agent have acknowledged it (:mod:`mock_autopilot.pacing`); ``--clock free``
+(the default here, for a fleet driven by hand) lets it run at ``--speed``. The ground station writes the fleet plan (``<run>/plan/fleet.json``); ``--scenario NAME`` resolves a
 scenario locally through ``mission_plan`` (not for "auto" pads). Runs until SIGTERM / Ctrl-C. Exit codes: 0
 stopped, 1 a port is taken or Zenoh is unreachable, 2 bad arguments or plan.
 """
@@ -12,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import signal
 import sys
 import threading
@@ -31,8 +34,10 @@ from mock_autopilot.backends.px4 import px4_vehicle_configs
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.faults import FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet, FleetTruth
+from mock_autopilot.pacing import Pacer
 from mock_autopilot.px4_streams import DEFAULT_PROFILE
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth, camera_users
+from mock_autopilot.sim_bridge.pace_keeper import PaceKeeper
 from mock_autopilot.vehicle import VehicleConfig
 from mock_autopilot.world.config import flood_model_from_config
 
@@ -79,7 +84,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE",
                    help="with --scenario: override a scenario parameter")
     p.add_argument("--mission", help="mission name in the Zenoh keys (default: the plan's)")
-    p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall second")
+    p.add_argument("--speed", type=float, default=1.0,
+                   help="simulated seconds per wall second (with a paced clock: the most it may run at)")
+    p.add_argument("--clock", choices=("paced", "free"), default="free",
+                   help="paced: hold each control tick until the cameras, the radio and every agent have done theirs; "
+                        "free: run at --speed whatever the participants do")
+    p.add_argument("--agent-timeout-s", type=float, default=2.0,
+                   help="paced clock: wall seconds a participant may hold a tick before the clock goes on without it")
     p.add_argument("--base-port", type=int, default=14540)
     p.add_argument("--gcs-port", type=int, default=14550)
     p.add_argument("--camera-hz", type=float,
@@ -105,6 +116,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         faults = [parse_fault(text) for text in args.fault]
         if not args.speed > 0:
             raise ValueError(f"--speed {args.speed}: must be > 0")
+        if not args.agent_timeout_s > 0:
+            raise ValueError(f"--agent-timeout-s {args.agent_timeout_s}: must be > 0")
+        if args.clock == "paced" and args.cameras != "none":
+            raise ValueError("--clock paced: run the cameras in their own process (--cameras none)")
         camera_hz = args.camera_hz or plan.camera.rate_hz
         truth_hz = args.truth_hz or plan.control_rate_hz
         if not (camera_hz > 0 and truth_hz > 0):
@@ -122,8 +137,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())
+    pacer = Pacer(1.0 / truth_hz, args.agent_timeout_s, paced=args.clock == "paced")
     fleet = Fleet(vehicle_configs(plan), base_port=args.base_port, gcs_port=args.gcs_port, speed=args.speed,
-                  faults=faults)
+                  faults=faults, initial_gate_s=pacer.gate_s if pacer.paced else math.inf)
     try:
         fleet.start()
     except OSError as exc:
@@ -143,16 +159,32 @@ def main(argv: Sequence[str] | None = None) -> int:
                     camera_users({v.vehicle_id: v.role for v in plan.vehicles}, args.cameras),
                     on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
             bridge = SimBridge(session, mission, 1.0 / truth_hz, streamer)
-            log.info("fleet of %d vehicles up (speed x%g), bridge publishing on floodwatch/%s",
-                     len(plan.vehicles), args.speed, mission)
             setpoint_ages_s: list[float] = []
+
+            def publish_truth(t_s: float) -> None:
+                truth = fleet.truth()
+                bridge.publish_truth(t_s, vehicle_truths(truth))
+                setpoint_ages_s.extend(setpoint_ages(fleet, truth, t_s))
+
+            keeper = PaceKeeper(session, mission, pacer, fleet.clock.now_s, lambda: fleet.last_tick_t_s,
+                                fleet.set_gate, publish_truth)
+            log.info("fleet of %d vehicles up (speed x%g, %s clock), bridge publishing on floodwatch/%s",
+                     len(plan.vehicles), args.speed, args.clock, mission)
             while not stop.is_set():
+                keeper.poll()
+                if pacer.paced:
+                    keeper.wait(keeper.next_wait_s())
+                    continue
                 now_s = fleet.clock.now_s()
                 truth = fleet.truth()
                 bridge.tick(now_s, vehicle_truths(truth))
                 setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
                 wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
                 stop.wait(min(wait_s, 0.05))
+            final = keeper.report()
+            log.info("clock: %.1f s simulated in %.1f s wall (%.2fx real time, %s), held %.1f s waiting",
+                     final.t_s, final.wall_s, final.real_time_factor, "paced" if final.paced else "free",
+                     final.held_wall_s)
             log.info("bridge sent %d truth samples", bridge.truths_sent)
             if streamer is not None:
                 log.info("bridge %s", streamer.summary())

@@ -203,11 +203,15 @@ class SimBridge:
     def tick(self, now_s: float, vehicles: Sequence[VehicleTruth]) -> None:
         """Publish whatever is due at mission time ``now_s`` (call often; it keeps its own schedule)."""
         if now_s >= self._next_truth_s:
-            self.session.put(self.keys.truth, encode(ground_truth_message(now_s, vehicles)))
-            self.truths_sent += 1
+            self.publish_truth(now_s, vehicles)
             self._next_truth_s = next_slot_s(self._next_truth_s, self.truth_period_s, now_s)
         if self.cameras is not None:
             self.cameras.stream(now_s, vehicles)
+
+    def publish_truth(self, t_s: float, vehicles: Sequence[VehicleTruth]) -> None:
+        """The truth at mission time ``t_s`` now (a paced clock publishes one per control tick, when it asks)."""
+        self.session.put(self.keys.truth, encode(ground_truth_message(t_s, vehicles)))
+        self.truths_sent += 1
 
     def next_due_s(self) -> float:
         return min(self._next_truth_s, self.cameras.next_due_s()) if self.cameras is not None else self._next_truth_s

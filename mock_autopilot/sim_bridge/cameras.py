@@ -6,7 +6,9 @@ renderer out of the fleet's process gives it its own CPU share and interpreter l
 MAVLink thread and the renderer slowed each other down (docs/BENCHMARKS.md, Mission). The cameras plan (the
 ground station writes ``<run>/plan/cameras.json``) gives the flood table, seed, DEM folder, camera and each
 vehicle's role; ``--scenario NAME`` resolves a scenario locally through ``mission_plan`` (not for "auto" pads).
-Runs until SIGTERM / Ctrl-C.
+After each truth it has handled (frames due by then rendered and published) it acknowledges the truth's time on
+``sim/pace/cameras``, which a paced simulation clock waits for (:mod:`mock_autopilot.pacing`), and once a wall second
+it publishes its achieved frame rate (``CameraStats``). Runs until SIGTERM / Ctrl-C.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import logging
 import signal
 import sys
 import threading
+import time
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -23,7 +26,7 @@ import cv2
 
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, MissionKeys, validate_mission
-from comms.messages import GroundTruth, decode
+from comms.messages import CameraStats, GroundTruth, PaceAck, decode, encode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
 from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import CamerasPlan, cameras_plan
@@ -87,15 +90,21 @@ def main(argv: Sequence[str] | None = None) -> int:
                                   camera_users(plan.roles, args.cameras),
                                   on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
         latest_t_s = -1.0
+        next_stats_wall_s = time.monotonic() + 1.0
         while not stop.is_set():
-            if not truth_buf.wait(0.2):
-                continue
-            for item in truth_buf.drain():
-                truth = decode(GroundTruth, item.payload)
-                if truth is None or truth.t_s <= latest_t_s:
-                    continue
-                latest_t_s = truth.t_s
-                streamer.stream(truth.t_s, vehicles_from_truth(truth))
+            if truth_buf.wait(0.2):
+                for item in truth_buf.drain():
+                    truth = decode(GroundTruth, item.payload)
+                    if truth is None or truth.t_s <= latest_t_s:
+                        continue
+                    latest_t_s = truth.t_s
+                    streamer.stream(truth.t_s, vehicles_from_truth(truth))
+                    session.put(keys.pace("cameras"), encode(PaceAck(participant="cameras", t_s=truth.t_s)))
+            if time.monotonic() >= next_stats_wall_s and latest_t_s >= 0:
+                session.put(keys.camera_stats, encode(CameraStats(
+                    t_s=latest_t_s, frames_sent=streamer.frames_sent, frame_rate_hz=streamer.frame_rate_hz(),
+                    nominal_rate_hz=1.0 / streamer.camera_period_s)))
+                next_stats_wall_s = time.monotonic() + 1.0
         log.info("cameras %s", streamer.summary())
     return 0
 
