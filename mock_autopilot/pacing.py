@@ -10,7 +10,8 @@ One control tick of a paced run (mission time ``t`` = k x period, the clock held
 3. ``AGENTS``: every agent computes its tick for ``t`` on the newest telemetry, frame and inbox, sends its setpoint
    and state message and acknowledges ``t``. Then the gate moves to ``t`` + period (:attr:`PaceAction.SET_GATE`).
 
-A participant is waited for from its first acknowledgement until it says it is leaving. One that keeps the clock
+A participant is waited for from its first acknowledgement until it says it is leaving or its process is gone
+(its liveliness token vanished). One that keeps the clock
 waiting longer than ``agent_timeout_s`` of wall time is left behind: the clock goes on without it (its vehicle then
 meets PX4's offboard-loss rule in mission time) until it acknowledges a current tick again. Everything here takes
 wall times as arguments; the fleet process (:mod:`mock_autopilot.sim_bridge`) is the shell that reads clocks and
@@ -113,6 +114,12 @@ class Pacer:
             record.left_behind = False
             actions.append(PaceAction(PaceActionKind.REJOINED, t_s, participant))
         return actions
+
+    def on_departed(self, participant: str) -> None:
+        """The participant's process is gone (its liveliness token vanished): stop waiting for it at once."""
+        record = self.records.get(participant)
+        if record is not None:
+            record.leaving = True
 
     def step(self, clock_held: bool, wall_s: float) -> list[PaceAction]:
         """Advance the stage machine as far as the acknowledgements allow at wall time ``wall_s``, at most to the

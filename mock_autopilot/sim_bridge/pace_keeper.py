@@ -36,6 +36,7 @@ class PaceKeeper:
         self._set_gate = set_gate
         self._publish_truth = publish_truth
         self._acks = session.subscribe(self.keys.all_pace)
+        self._alive = session.subscribe_alive(self.keys.all_alive, history=False)
         self._clock_seq = 0
         self._wall_start_s = time.monotonic()
         self._t_start_s = now_s()
@@ -60,6 +61,10 @@ class PaceKeeper:
                 self.rejected_acks += 1
                 continue
             actions += self.pacer.on_ack(ack.participant, ack.t_s, ack.leaving, wall_s)
+        for item in self._alive.drain():
+            name = self.keys.participant_of(item.key)
+            if item.kind == "delete" and name is not None:
+                self.pacer.on_departed(name)
         held = self._reached_s() >= self.pacer.gate_s - 1e-9
         if held and self._reached_wall_s is None:
             self._reached_wall_s = wall_s

@@ -341,3 +341,90 @@ def _listen_to_public_keys(hub: str, mission: str, proc: subprocess.Popen[str]) 
                 if state is not None:
                     states[state.sender_id] = state
     return polygons, states
+
+
+def _lockstep_summary(duration_s: float) -> dict[str, float]:
+    """The reference: the same shortened mission in the lockstep engine on the mock PX4 backend."""
+    from gcs.lockstep.backend_choice import BackendKind
+    from gcs.lockstep.engine import run_lockstep
+    from gcs.metrics.mission import compute_mission_metrics
+
+    scenario = load_scenario("circle")
+    result = run_lockstep(scenario, "improved", duration_s=duration_s, backend=BackendKind.PX4)
+    return compute_mission_metrics(result.record, result.flood, scenario.camera.fov_deg)["summary"]
+
+
+def _fly_and_freeze_agent(out: Path, options: ProcessOptions, victim_id: int, frozen_wall_s: float,
+                          at_flood_s: float = 6.0) -> tuple[int, GroundStation]:
+    """Fly ``options`` and SIGSTOP agent ``victim_id`` for ``frozen_wall_s`` wall seconds once the flood clock passes
+    ``at_flood_s``; returns the exit code and the ground station."""
+    station = GroundStation(load_scenario("circle"), options, _mkdir(out))
+    result: dict[str, int] = {}
+    runner = threading.Thread(target=lambda: result.setdefault("code", _run(station)))
+    runner.start()
+    victim = None
+    try:
+        deadline = time.monotonic() + 180.0
+        while time.monotonic() < deadline and not (station.phase == "mission" and station.flood_time_s() > at_flood_s):
+            time.sleep(0.05)
+        assert station.phase == "mission", _read(out / "events.log")[-2000:]
+        victim = pids_of_run(out)[f"agent_{victim_id}"]
+        os.kill(victim, signal.SIGSTOP)
+        time.sleep(frozen_wall_s)
+        os.kill(victim, signal.SIGCONT)
+    finally:
+        if victim is not None:
+            try:
+                os.kill(victim, signal.SIGCONT)
+            except ProcessLookupError:
+                pass
+        runner.join(timeout=300.0)
+        if runner.is_alive():
+            station.interrupt()
+            runner.join(timeout=30.0)
+    assert_no_orphans(out)
+    return result.get("code", -1), station
+
+
+def test_paced_clock_waits_for_a_stopped_agent_and_the_mission_is_unchanged(tmp_path: Path) -> None:
+    """SIGSTOP of a boundary agent for 1.2 s (under the 2 s agent timeout): the paced clock holds, nobody is left
+    behind, no failsafe fires, and the metrics agree with the lockstep engine's."""
+    out = tmp_path / "run"
+    code, station = _fly_and_freeze_agent(out, _options(out, 26500, duration_s=20.0), victim_id=3, frozen_wall_s=1.2)
+    events = _read(out / "events.log")
+    assert code == 0, events[-3000:]
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["engine"]["clock"] == "paced" and metrics["engine"]["left_behind"] == [], metrics["engine"]
+    assert metrics["engine"]["held_wall_s"] >= 1.0, metrics["engine"]
+    assert metrics["safety"]["failsafe_count"] == 0 and metrics["safety"]["near_miss_pairs"] == 0, metrics["safety"]
+    assert disagreements(_lockstep_summary(20.0), metrics["summary"]) == []
+    assert "mission complete | engine" in events or "engine complete" in events
+
+
+@pytest.mark.slow
+def test_free_clock_stopped_agent_meets_px4_offboard_loss(tmp_path: Path) -> None:
+    """The same freeze on a free-running clock: the simulation goes on without the agent and its vehicle leaves
+    OFFBOARD after COM_OF_LOSS_T, as PX4 does."""
+    out = tmp_path / "run"
+    code, station = _fly_and_freeze_agent(out, _options(out, 26600, duration_s=20.0, clock="free"), victim_id=3,
+                                          frozen_wall_s=2.5)
+    events = _read(out / "events.log")
+    assert code == 0, events[-3000:]
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert any(f.startswith("vehicle 3: Failsafe") for f in metrics["safety"]["failsafes"]), metrics["safety"]
+    assert re.search(r"vehicle 3: armed, mode (?!OFFBOARD)", events), events[-3000:]
+
+
+@pytest.mark.slow
+def test_paced_clock_leaves_behind_an_agent_silent_past_the_timeout(tmp_path: Path) -> None:
+    """A freeze past ``--agent-timeout-s``: the clock goes on without the agent, its vehicle meets the offboard-loss
+    rule in mission time, and the run says so: left behind, engine degraded (``--strict`` exits 1)."""
+    out = tmp_path / "run"
+    options = _options(out, 26700, duration_s=20.0, agent_timeout_s=1.0, strict=True)
+    code, station = _fly_and_freeze_agent(out, options, victim_id=3, frozen_wall_s=4.0)
+    events = _read(out / "events.log")
+    assert code == 1, events[-3000:]
+    assert "agent 3 left behind by the paced clock" in events
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["engine"]["health"] == "degraded" and "3" in metrics["engine"]["left_behind"], metrics["engine"]
+    assert any(f.startswith("vehicle 3: Failsafe") for f in metrics["safety"]["failsafes"]), metrics["safety"]
