@@ -19,6 +19,11 @@ Usage (one mission, per-thread table)::
 
     python bench/agent_tick_cost.py --duration 30                       # circle, 13 vehicles, 20 Hz
     python bench/agent_tick_cost.py --duration 30 --set control_rate_hz=10
+    python bench/agent_tick_cost.py --mavsdk-streams                    # MAVSDK's cost per telemetry profile
+
+``--mavsdk-streams`` isolates MAVSDK: one mock PX4 (a child process) streaming the mock's reduced profile or PX4's
+own onboard rates, one ``MavsdkAutopilotLink`` in this process (no Zenoh, no control loop), with and without the
+link's rate requests; CPU and wake-ups of this process's threads per second.
 """
 
 from __future__ import annotations
@@ -225,9 +230,43 @@ def median_table(tables: Iterable[Mapping[str, float]]) -> dict[str, float]:
     return out
 
 
+def mavsdk_stream_cost(profile: str, request_rates: bool, seconds: float = 15.0, port: int = 27500) -> dict[str, float]:
+    """CPU [ms/s] and wake-ups [1/s] of this process's threads while one MAVSDK link listens to one mock PX4."""
+    import asyncio  # noqa: PLC0415 - only this measurement needs them
+    import math  # noqa: PLC0415
+
+    from vehicle_agents.autopilot_link_mavsdk import TELEMETRY_RATES_HZ, MavsdkAutopilotLink  # noqa: PLC0415
+
+    fleet = subprocess.Popen([sys.executable, "-m", "mock_autopilot", "--vehicles", "1", "--base-port", str(port),
+                              "--gcs-port", str(port + 5), "--stream-rates", profile],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    async def measure() -> dict[str, float]:
+        link = MavsdkAutopilotLink(f"udpin://0.0.0.0:{port}", TELEMETRY_RATES_HZ if request_rates else None)
+        try:
+            await link.connect(30.0)
+            await asyncio.sleep(3.0)
+            window = ThreadCpuWindow(os.getpid())
+            window.sample()
+            await asyncio.sleep(seconds)
+            window.sample()
+            heard = math.isfinite(link.telemetry.position_ned_m[0])
+        finally:
+            await link.close()
+        cpu = sum(cpu_s for name, cpu_s in window.cpu_by_tid().values())
+        wakeups = sum(window.wakeups_by_group().values())
+        return {"cpu_ms_per_s": 1000.0 * cpu / window.wall_s, "wakeups_per_s": wakeups / window.wall_s,
+                "heard": float(heard)}
+
+    try:
+        return asyncio.run(measure())
+    finally:
+        fleet.terminate()
+        fleet.wait(10)
+
+
 def main() -> int:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from bench.mission_processes import run_once  # noqa: PLC0415 - heavy (the ground station) and CLI-only
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--scenario", default="circle")
@@ -237,7 +276,21 @@ def main() -> int:
     p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
     p.add_argument("--no-gdb", action="store_true", help="do not label MAVSDK's unnamed threads with gdb")
     p.add_argument("--out", type=Path, default=Path("runs/bench-agent-tick"))
+    p.add_argument("--mavsdk-streams", action="store_true", help="MAVSDK's own cost per telemetry profile instead")
+    p.add_argument("--repeat", type=int, default=2, help="with --mavsdk-streams: runs per case")
     args = p.parse_args()
+    if args.mavsdk_streams:
+        print("| mock stream profile | link requests rates | MAVSDK process CPU ms/s | wake-ups /s |")
+        print("|---|---|---|---|")
+        for profile in ("reduced", "px4"):
+            for request in (False, True):
+                runs = [mavsdk_stream_cost(profile, request) for _ in range(args.repeat)]
+                cpu = sorted(r["cpu_ms_per_s"] for r in runs)
+                wake = sorted(r["wakeups_per_s"] for r in runs)
+                print(f"| {profile} | {'yes' if request else 'no'} | {' / '.join(f'{c:.1f}' for c in cpu)} | "
+                      f"{' / '.join(f'{w:.0f}' for w in wake)} |", flush=True)
+        return 0
+    from bench.mission_processes import run_once  # noqa: PLC0415 - heavy (the ground station) and CLI-only
     row = run_once(args.scenario, tuple(args.overrides), args.speed, args.duration, args.out, args.mode,
                    gdb_labels=not args.no_gdb)
     print(json.dumps(row), flush=True)

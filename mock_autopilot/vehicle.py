@@ -164,6 +164,7 @@ class Vehicle:
         self._next_due: dict[str, dict[str, float]] = {
             link: {name: now_s for name in periods} for link, periods in self._periods.items()
         }
+        self._stream_epoch_s = now_s  # every stream is due on multiples of its period from here (see tick)
         self._limits_version = -1
         self._limits_cache = KinematicLimits()
         self._wind_ned = np.asarray(config.wind_ned_mps, dtype=float) if any(config.wind_ned_mps) else None
@@ -542,6 +543,10 @@ class Vehicle:
         self._cruise_speed_mps = min(speed, self.params["MPC_XY_VEL_MAX"])
         return MAV_RESULT_ACCEPTED
 
+    def stream_rates_hz(self, link: str) -> dict[str, float]:
+        """Message name -> rate [Hz, simulated] this vehicle streams on ``link`` now (after SET_MESSAGE_INTERVAL)."""
+        return {name: 1.0 / period for name, period in self._periods[link].items()}
+
     def _cmd_message_interval(self, link: str, p: list[float], now_s: float) -> int:
         if not (math.isfinite(p[0]) and math.isfinite(p[1])):
             return MAV_RESULT_DENIED
@@ -562,8 +567,14 @@ class Vehicle:
             periods[name] = max(interval_us * 1e-6, 0.001)
         else:
             return MAV_RESULT_DENIED
-        self._next_due[link][name] = now_s
-        self._earliest_due[link] = now_s
+        if name in periods:
+            # Keep the stream on its grid from boot rather than starting it now: streams whose rates divide each
+            # other then fall due in the same tick and leave together, as in PX4's mavlink loop, which sends what
+            # is due in one pass; a stream restarted at the command's time would wake the receiver separately.
+            period = periods[name]
+            due_s = self._stream_epoch_s + math.ceil((now_s - self._stream_epoch_s) / period - 1e-9) * period
+            self._next_due[link][name] = due_s
+            self._earliest_due[link] = min(self._earliest_due[link], due_s)
         return MAV_RESULT_ACCEPTED
 
     def _cmd_request_message(self, link: str, command: int, p: list[float], now_s: float) -> tuple[int, list[Outgoing]]:

@@ -17,14 +17,21 @@ API rather than its ``mavsdk.asyncio`` wrappers:
 
 Commands that wait for the autopilot's COMMAND_ACK (arm, takeoff, offboard start, hold, land) still run in a worker
 thread so the control loop never blocks on them.
+
+Every MAVLink message costs MAVSDK two thread wake-ups (its I/O thread, then its callback thread) whether or not
+anyone reads it, so on connecting the link asks the autopilot (MAV_CMD_SET_MESSAGE_INTERVAL, through MAVSDK's
+``set_rate_*``) for the streams it reads at the rates it needs and to stop fast streams nobody here reads. PX4's
+onboard link streams ATTITUDE at 100 Hz, GLOBAL_POSITION_INT at 50 Hz, LOCAL_POSITION_NED at 30 Hz and ALTITUDE and
+VFR_HUD at 10 Hz by default; the mock's reduced profile already sends close to :data:`TELEMETRY_RATES_HZ`.
 """
 
 from __future__ import annotations
 
 import asyncio
+import logging
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from mavsdk import ComponentType, Configuration, Mavsdk, MavsdkError
@@ -36,7 +43,18 @@ from mavsdk.system import System
 
 from vehicle_agents.autopilot_link import AutopilotLinkError, AutopilotTelemetry
 
+log = logging.getLogger("vehicle_agents")
 _LOG_LEVEL_TO_KEEP = LogLevel.WARN
+
+TELEMETRY_RATES_HZ: dict[str, float] = {
+    "position_velocity_ned": 20.0,  # LOCAL_POSITION_NED: the control law's input, at the default control rate
+    "attitude_euler": 10.0,  # ATTITUDE: yaw, only carried in the state message
+    "position": 10.0,  # GLOBAL_POSITION_INT: the GPS leader's latitude/longitude for the ground station
+    "altitude": -1.0,  # ALTITUDE: not read
+    "fixedwing_metrics": -1.0,  # VFR_HUD: not read
+}
+"""MAVSDK ``Telemetry.set_rate_<name>`` -> rate [Hz of the autopilot's clock]; -1 stops the stream (MAVSDK sends
+interval -1), 0 would restore the autopilot's default."""
 
 
 def _quiet_mavsdk_log(level: LogLevel, message: str, file: str | None, line: int) -> bool:
@@ -78,8 +96,11 @@ class _TelemetryFields:
 class MavsdkAutopilotLink:
     """An :class:`~vehicle_agents.autopilot_link.AutopilotLink` over MAVSDK."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(self, url: str, telemetry_rates_hz: Mapping[str, float] | None = TELEMETRY_RATES_HZ) -> None:
+        """``telemetry_rates_hz``: the stream rates to request on connecting (e.g. ``position_velocity_ned`` at the
+        agent's own control rate); None leaves every stream at the autopilot's rate."""
         self._url = url
+        self._rates_hz = dict(telemetry_rates_hz or {})
         self._fields = _TelemetryFields()
         self._mavsdk: Mavsdk | None = None
         self._action: Action | None = None
@@ -104,6 +125,15 @@ class MavsdkAutopilotLink:
         self._offboard = Offboard(system)
         self._telemetry_plugin = Telemetry(system)
         self._start_subscriptions(self._telemetry_plugin)
+        await self._request_rates(self._telemetry_plugin)
+
+    async def _request_rates(self, tel: Telemetry) -> None:
+        """Ask for the stream rates in ``_rates_hz``; an autopilot that refuses one keeps its own rate for it."""
+        for name, rate_hz in self._rates_hz.items():
+            try:
+                await asyncio.to_thread(getattr(tel, f"set_rate_{name}"), rate_hz)
+            except MavsdkError as exc:
+                log.warning("%s: autopilot kept its rate for %s (%s)", self._url, name, exc)
 
     @staticmethod
     async def _first_autopilot(mavsdk: Mavsdk, timeout_s: float) -> System | None:

@@ -8,9 +8,10 @@ import time
 import pytest
 
 from mock_autopilot.fleet import Fleet
+from mock_autopilot.px4_streams import GCS, ONBOARD, STREAM_PROFILES
 from mock_autopilot.vehicle import VehicleConfig
 from vehicle_agents.autopilot_link import AutopilotLinkError
-from vehicle_agents.autopilot_link_mavsdk import MavsdkAutopilotLink
+from vehicle_agents.autopilot_link_mavsdk import TELEMETRY_RATES_HZ, MavsdkAutopilotLink
 from vehicle_agents.autopilot_link_pymavlink import PymavlinkAutopilotLink
 
 pytestmark = pytest.mark.integration
@@ -83,3 +84,24 @@ def test_mavsdk_telemetry_arrives_without_waking_the_event_loop() -> None:
 
     with Fleet([VehicleConfig(0)], base_port=26040, gcs_port=26045):
         asyncio.run(watch())
+
+
+def test_mavsdk_link_asks_px4_for_the_streams_it_reads_and_stops_the_rest() -> None:
+    """Against PX4's own onboard rates, connecting sets them with MAV_CMD_SET_MESSAGE_INTERVAL (MAVSDK set_rate_*)
+    on the onboard link only; the ground station's link keeps its rates."""
+
+    async def connect(fleet: Fleet) -> None:
+        link = MavsdkAutopilotLink("udpin://0.0.0.0:26050")
+        try:
+            await link.connect(10.0)
+            onboard = fleet.vehicles[0].stream_rates_hz(ONBOARD)
+            assert onboard["LOCAL_POSITION_NED"] == pytest.approx(TELEMETRY_RATES_HZ["position_velocity_ned"])
+            assert onboard["ATTITUDE"] == pytest.approx(TELEMETRY_RATES_HZ["attitude_euler"])
+            assert onboard["GLOBAL_POSITION_INT"] == pytest.approx(TELEMETRY_RATES_HZ["position"])
+            assert "ALTITUDE" not in onboard and "VFR_HUD" not in onboard
+            assert fleet.vehicles[0].stream_rates_hz(GCS) == pytest.approx(STREAM_PROFILES["px4"][GCS])
+        finally:
+            await link.close()
+
+    with Fleet([VehicleConfig(0, stream_profile="px4")], base_port=26050, gcs_port=26055) as fleet:
+        asyncio.run(connect(fleet))
