@@ -113,7 +113,9 @@ def seed_spread(rows: Sequence[Row]) -> str:
         full = fmt(max(values) - min(values), pattern)
         spread = fmt(stats.spread, pattern)
         moved.append(f"{title} {spread}" + (f" (max - min {full})" if full != spread else ""))
-    if len(rows) < 2:
+    if not rows:
+        return "no rows yet: rerun the campaign's command"
+    if len(rows) == 1:
         return "one run"
     return ", ".join(moved) if moved else NOTHING_MOVED
 
@@ -146,13 +148,19 @@ def targets_table(rows: Sequence[Row]) -> list[str]:
     return lines
 
 
-def distribution_table(groups: Sequence[tuple[Sequence[str], Sequence[Row]]], lead: Sequence[str]) -> list[str]:
-    """One line per group: its lead cells, n, each headline metric as p50 [p5, p95], and what the seeds moved."""
+def n_text(n: int, planned: int) -> str:
+    """``n``, or ``n of planned`` while a campaign is incomplete."""
+    return str(n) if n >= planned else f"{n} of {planned}"
+
+
+def distribution_table(groups: Sequence[tuple[Sequence[str], Sequence[Row], int]], lead: Sequence[str]) -> list[str]:
+    """One line per group (lead cells, rows, runs planned): n, each headline metric as p50 [p5, p95], and what
+    the seeds moved."""
     header = [*lead, "n", *(title for _, title, _ in METRICS), "what the seeds moved (p95 - p5)"]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for cells, rows in groups:
+    for cells, rows, planned in groups:
         stats = [fmt_stats(distribution(r.get(key) for r in rows), pattern) for key, _, pattern in METRICS]
-        lines.append("| " + " | ".join([*cells, str(len(rows)), *stats, seed_spread(rows)]) + " |")
+        lines.append("| " + " | ".join([*cells, n_text(len(rows), planned), *stats, seed_spread(rows)]) + " |")
     return lines
 
 
@@ -208,6 +216,9 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         "",
         f"## Targets on `circle`, seeds {seeds}",
         "",
+        f"Runs: paper {n_text(len(_mode_rows(circle, Mode.PAPER)), len(parse_seeds(seeds or '1')))}, improved "
+        f"{n_text(len(_mode_rows(circle, Mode.IMPROVED)), len(parse_seeds(seeds or '1')))}.",
+        "",
         *targets_table(circle),
         "",
         f"Spread over seeds: paper — {seed_spread(_mode_rows(circle, Mode.PAPER))}; improved — "
@@ -222,16 +233,20 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
             continue
         rows = ok.get(campaign.name, [])
         vehicles = next((str(r.get("vehicles")) for r in rows if r.get("vehicles") is not None), "—")
+        planned = len(parse_seeds(campaign.seeds))
         for mode in (Mode.PAPER, Mode.IMPROVED):
-            groups.append(([f"`{campaign.scenario}`", vehicles, mode.value, campaign.seeds], _mode_rows(rows, mode)))
+            groups.append(([f"`{campaign.scenario}`", vehicles, mode.value, campaign.seeds], _mode_rows(rows, mode),
+                           planned))
     out += [*distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
     pdot_rows = ok.get("circle-pdot", [])
     pdot_groups = []
+    pdot_seeds = len(parse_seeds(next((c.seeds for c in CAMPAIGNS if c.name == "circle-pdot"), "1")))
+    circle_seeds = len(parse_seeds(seeds or "1"))
     for mode in (Mode.PAPER, Mode.IMPROVED):
-        pdot_groups.append(([mode.value, "normal (default)"], _mode_rows(circle, mode)))
+        pdot_groups.append(([mode.value, "normal (default)"], _mode_rows(circle, mode), circle_seeds))
         for reading in ("full", "none"):
             pdot_groups.append(([mode.value, reading],
-                                [r for r in _mode_rows(pdot_rows, mode) if r.get(PDOT_KEY) == reading]))
+                                [r for r in _mode_rows(pdot_rows, mode) if r.get(PDOT_KEY) == reading], pdot_seeds))
     out += [
         "## ṗ feed-forward readings of eq 5 on `circle` (SPEC §2)",
         "",

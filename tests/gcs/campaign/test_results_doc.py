@@ -32,7 +32,7 @@ def test_render_targets_distributions_and_commands() -> None:
     assert "--grid control.pdot_reading=full,none" in text
     assert "| T_enc [s] | <= 20 | 21.3 [21.2, 21.4] | 0.2 | 10.9 | 0.0 | yes (20/20 runs) |" in text
     assert "| `circle` | 40 | 41 | 1 | 20 |" in text and "| `large` | 10 | 0 | 0 | — |" in text
-    assert "| improved | full | 2 |" in text and "| paper | normal (default) | 20 |" in text
+    assert "| improved | full | 2 of 20 |" in text and "| paper | normal (default) | 20 |" in text
     assert NOTHING_MOVED in text and "OverflowError: x" in text
     assert len(CAMPAIGNS) == 7
 
