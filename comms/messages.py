@@ -300,6 +300,8 @@ class PaceReport(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sch
     recent_real_time_factor: float
     held_wall_s: float
     participants: list[ParticipantPace] = []
+    waiting_for: list[str] = []
+    """Who the clock is waiting for right now (a paced clock that stands still says why)."""
 
 
 class CameraStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/camerastats/1"):

@@ -11,9 +11,11 @@ One control tick of a paced run (mission time ``t`` = k x period, the clock held
    and state message and acknowledges ``t``. Then the gate moves to ``t`` + period (:attr:`PaceAction.SET_GATE`).
 
 A participant is waited for from its first acknowledgement until it says it is leaving or its process is gone
-(its liveliness token vanished). One that keeps the clock
-waiting longer than ``agent_timeout_s`` of wall time is left behind: the clock goes on without it (its vehicle then
-meets PX4's offboard-loss rule in mission time) until it acknowledges a current tick again. Everything here takes
+(its liveliness token vanished). An agent that keeps the clock waiting longer than ``agent_timeout_s`` of wall time
+is left behind: the clock goes on without it (its vehicle then meets PX4's offboard-loss rule in mission time) until
+it acknowledges a current tick again. The cameras and the radio are part of the simulator, like a simulator's
+sensors: they are waited for as long as their process lives, however slow (a first frame that takes seconds to
+render delays the run; it must not change it). Everything here takes
 wall times as arguments; the fleet process (:mod:`mock_autopilot.sim_bridge`) is the shell that reads clocks and
 sockets.
 """
@@ -169,12 +171,12 @@ class Pacer:
         return PaceStage.SERVICES if participant in SERVICES else PaceStage.AGENTS
 
     def _still_waiting(self, stage: PaceStage, wall_s: float, actions: list[PaceAction]) -> bool:
-        """Leave behind whoever has kept this stage waiting too long; True while anyone else is still awaited."""
+        """Leave behind agents that have kept this stage waiting too long; True while anyone is still awaited."""
         waiting = False
         for name, record in self.records.items():
             if self._awaited_stage(name) is not stage or not self._awaited(record):
                 continue
-            if wall_s - self._wait_started_wall_s > self.agent_timeout_s:
+            if stage is PaceStage.AGENTS and wall_s - self._wait_started_wall_s > self.agent_timeout_s:
                 record.left_behind = True
                 record.times_left_behind += 1
                 record.max_wait_wall_s = max(record.max_wait_wall_s, wall_s - self._wait_started_wall_s)

@@ -93,6 +93,9 @@ _COMMAND_REPEAT_S = 0.5
 _SNAPSHOT_PERIOD_S = 5.0
 _VIEW_PERIOD_S = 0.25
 _STATUS_LINE_PERIOD_S = 5.0
+CLOCK_STALL_WALL_S = 60.0
+"""Wall seconds without the mission clock moving, in flight, after which the run fails: the paced clock waits for
+the cameras and the radio as long as they live, so a hung one must still end the run."""
 
 
 class MissionFailed(RuntimeError):
@@ -235,6 +238,7 @@ class GroundStation:
         link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
         started_wall_s = time.monotonic()
         takeoff_deadline_s: float | None = None
+        clock_seen = (self.mission_t_s, time.monotonic())
         tick_s = min(0.05, 1.0 / (self.scenario.control_rate_hz * self.options.speed))
         next_command_s = next_snapshot_s = next_view_s = 0.0
         next_status_s = time.monotonic() + _STATUS_LINE_PERIOD_S
@@ -256,6 +260,7 @@ class GroundStation:
                         self.mission_t_s = truth.t_s
                 self._poll_swarm(link)
                 self._poll_pace(pace_buf)
+                clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
                 self._check_children()
                 self._check_vehicles(watcher, now_wall_s)
                 if self.phase == "starting":
@@ -318,6 +323,16 @@ class GroundStation:
         msg = MissionCommand(seq=self._command_seq, t_s=self.mission_t_s, command=command,  # type: ignore[arg-type]
                              phase=self.phase, flood_clock_start_t_s=self.flood_clock_start_s)
         hub.put(self.keys.command, encode(msg))
+
+    def _check_clock_moves(self, seen: tuple[float, float], now_wall_s: float) -> tuple[float, float]:
+        """Fail the run when the mission clock has stood still for :data:`CLOCK_STALL_WALL_S` in flight."""
+        if self.mission_t_s != seen[0] or self.phase not in ("takeoff", "mission"):
+            return self.mission_t_s, now_wall_s
+        if now_wall_s - seen[1] > CLOCK_STALL_WALL_S:
+            waiting = ", ".join(self.pace_report.waiting_for) if self.pace_report else "unknown"
+            raise MissionFailed(f"the simulation clock has stood at {self.mission_t_s:.2f} s for "
+                                f"{CLOCK_STALL_WALL_S:g} s of wall time (waiting for: {waiting})")
+        return seen
 
     def _startup_timeout_s(self) -> float:
         """Wall seconds for every child to come up: the option, or more on a machine that must start many agents
@@ -548,7 +563,7 @@ class GroundStation:
         summary = metrics.get("summary", metrics)
         safety = safety_verdict(summary, self.failsafes)
         self.events(safety.text())
-        metrics["engine"] = engine.as_json()
+        metrics["engine_health"] = engine.as_json()
         metrics["safety"] = safety.as_json()
         write_metrics_json(metrics, metrics_path)
         keys = [k for k in ("encircle_time_s", "polygon_iou_final", "coverage_final", "spacing_cv_final",

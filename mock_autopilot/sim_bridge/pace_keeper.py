@@ -115,6 +115,7 @@ class PaceKeeper:
                                 max_wait_wall_s=r.max_wait_wall_s, left_behind=r.left_behind, times_left_behind=r.times_left_behind, leaving=r.leaving)
                 for name, r in sorted(self.pacer.records.items())
             ],
+            waiting_for=sorted(self.pacer.waiting_for()),
         )
         self.session.put(self.keys.pace_report, encode(report))
         return report

@@ -394,8 +394,8 @@ def test_paced_clock_waits_for_a_stopped_agent_and_the_mission_is_unchanged(tmp_
     events = _read(out / "events.log")
     assert code == 0, events[-3000:]
     metrics = json.loads((out / "metrics.json").read_text())
-    assert metrics["engine"]["clock"] == "paced" and metrics["engine"]["left_behind"] == [], metrics["engine"]
-    assert metrics["engine"]["held_wall_s"] >= 1.0, metrics["engine"]
+    assert metrics["engine_health"]["clock"] == "paced" and metrics["engine_health"]["left_behind"] == [], metrics["engine_health"]
+    assert metrics["engine_health"]["held_wall_s"] >= 1.0, metrics["engine_health"]
     assert metrics["safety"]["failsafe_count"] == 0 and metrics["safety"]["near_miss_pairs"] == 0, metrics["safety"]
     assert disagreements(_lockstep_summary(20.0), metrics["summary"]) == []
     assert "mission complete | engine" in events or "engine complete" in events
@@ -426,5 +426,6 @@ def test_paced_clock_leaves_behind_an_agent_silent_past_the_timeout(tmp_path: Pa
     assert code == 1, events[-3000:]
     assert "agent 3 left behind by the paced clock" in events
     metrics = json.loads((out / "metrics.json").read_text())
-    assert metrics["engine"]["health"] == "degraded" and "3" in metrics["engine"]["left_behind"], metrics["engine"]
+    health = metrics["engine_health"]
+    assert health["health"] == "degraded" and "3" in health["left_behind"], health
     assert any(f.startswith("vehicle 3: Failsafe") for f in metrics["safety"]["failsafes"]), metrics["safety"]

@@ -131,3 +131,14 @@ def test_a_free_clock_has_no_gate() -> None:
     clock = SimClock(3.0, wall_clock=wall)
     wall.t = 10.0
     assert clock.now_s() == pytest.approx(30.0) and not clock.held()
+
+
+def test_the_cameras_and_the_radio_are_waited_for_however_slow() -> None:
+    pacer = joined(Pacer(PERIOD_S, agent_timeout_s=2.0))
+    pacer.step(True, 0.0)
+    pacer.on_ack("radio", PERIOD_S, False, 0.0)
+    assert PaceActionKind.LEFT_BEHIND not in kinds(pacer.step(True, 60.0))
+    assert pacer.waiting_for() == ["cameras"]
+    pacer.on_ack("cameras", PERIOD_S, False, 61.0)
+    assert kinds(pacer.step(True, 61.0)) == [PaceActionKind.PUBLISH_CLOCK]
+    assert pacer.records["cameras"].max_wait_wall_s == pytest.approx(61.0)
