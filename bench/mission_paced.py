@@ -10,7 +10,7 @@ median per agent and the peak of the whole run's PSS.
 Usage::
 
     python bench/mission_paced.py --cases "circle:speed=3"
-    python bench/mission_paced.py --cases "circle:speed=3;circle:speed=3,clock=free;large"
+    python bench/mission_paced.py --cases "circle:speed=3;circle:speed=3,clock=free;large:backend=kinematic"
 
 Ports 28000-28999 are used so the benchmark never meets a running mission or the tests.
 """
@@ -106,7 +106,9 @@ def parse_case(text: str) -> tuple[str, dict[str, str]]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", default="circle:speed=3", help='";"-separated SCENARIO[:speed=S,clock=C,mode=M]')
+    parser.add_argument("--cases", default="circle:speed=3",
+                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B] (B: the lockstep reference\'s '
+                             'vehicle backend, px4 by default)')
     parser.add_argument("--out", type=Path, default=Path("/tmp/fw_bench_paced"))
     ns = parser.parse_args()
     print(f"machine: {platform.processor() or platform.machine()}, {len(os.sched_getaffinity(0))} cores, "
@@ -116,8 +118,9 @@ def main() -> int:
         mode = options.get("mode", "improved")
         speed = options.get("speed", "1")
         clock = options.get("clock", "paced")
+        backend = options.get("backend", "px4")
         base = 28000 + 100 * index
-        ref_code, ref_wall_s, ref = run_mission([scenario, "--engine", "lockstep", "--backend", "px4", "--mode", mode],
+        ref_code, ref_wall_s, ref = run_mission([scenario, "--engine", "lockstep", "--backend", backend, "--mode", mode],
                                                 ns.out / f"{index}-lockstep", base)
         out = ns.out / f"{index}-processes"
         sampler = MemorySampler(out)
@@ -129,7 +132,7 @@ def main() -> int:
         engine, safety = metrics.get("engine_health", {}), metrics.get("safety", {})
         summary, ref_summary = metrics.get("summary", {}), ref.get("summary", {})
         print(f"\n== {scenario} mode={mode} speed={speed} clock={clock}")
-        print(f"lockstep (px4 backend): exit {ref_code}, {ref_wall_s:.0f} s wall")
+        print(f"lockstep ({backend} backend): exit {ref_code}, {ref_wall_s:.0f} s wall")
         print(f"processes: exit {code}, {wall_s:.0f} s wall, achieved {engine.get('real_time_factor')}x real time, "
               f"clock held {engine.get('held_wall_s')} s, slowest wait {engine.get('slowest_wait_wall_s')} s")
         print(f"  engine: {engine.get('health')} {engine.get('reasons')}; agents >= {engine.get('agent_rate_min_hz')} Hz "
@@ -138,7 +141,7 @@ def main() -> int:
               f"closest {safety.get('closest_approach_m')} m")
         if sampler.agent_pss_mib:
             print(f"  memory: {sampler.agents_seen_peak} agents, PSS per agent median "
-                  f"{statistics.median(sampler.agent_pss_mib):.1f} MiB (RSS counts shared libraries once per process), "
+                  f"{statistics.median(sampler.agent_pss_mib):.1f} MiB (PSS splits each shared page among the processes mapping it), "
                   f"whole run PSS peak {sampler.total_pss_peak_mib / 1024:.2f} GiB")
         for key in SHOWN:
             print(f"  {key:28s} lockstep {ref_summary.get(key)!s:>22}  processes {summary.get(key)!s:>22}")

@@ -221,7 +221,8 @@ class GroundStation:
         self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
         for vehicle in self.scenario.vehicles:
             self.agents[vehicle.vehicle_id] = self.supervisor.start(
-                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, plans.agents[vehicle.vehicle_id]),
+                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, plans.agents[vehicle.vehicle_id],
+                                                                len(self.vehicle_ids)),
                 niceness=AGENT_NICENESS,
             )
             self.agent_alive[vehicle.vehicle_id] = False

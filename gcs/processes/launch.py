@@ -73,11 +73,18 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
     ]
 
 
-def agent_command(options: ProcessOptions, vehicle_id: int, plan: Path) -> list[str]:
+MESH_LIMIT = 50
+"""Up to this many agents every process is a Zenoh peer and the peers mesh (one direct link per pair: the
+fewest hops). Beyond it the agents join as clients of the mission hub, which routes for them: a mesh of 200 agents
+would be 20 000 links to open and keep alive on one machine."""
+
+
+def agent_command(options: ProcessOptions, vehicle_id: int, plan: Path, fleet_size: int = 1) -> list[str]:
     """One drone's agent: its plan file and the onboard port of its mock PX4 (skipping the GCS port)."""
     port = onboard_port(options.mavlink_base_port, vehicle_id - 1, options.gcs_port)
+    zenoh_mode = ["--zenoh-mode", "client"] if fleet_size > MESH_LIMIT else []
     return [
         "vehicle_agents", "--plan", str(plan), "--mavlink", f"udpin://0.0.0.0:{port}", "--link", options.agent_link,
         "--speed", f"{options.speed:g}", "--clock", options.clock, "--connect", options.zenoh_endpoint,
-        *options.extra_agent_args,
+        *zenoh_mode, *options.extra_agent_args,
     ]
