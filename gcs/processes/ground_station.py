@@ -223,7 +223,7 @@ class GroundStation:
             self.agents[vehicle.vehicle_id] = self.supervisor.start(
                 f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, plans.agents[vehicle.vehicle_id],
                                                                 len(self.vehicle_ids)),
-                niceness=AGENT_NICENESS,
+                niceness=AGENT_NICENESS, own_session=False,
             )
             self.agent_alive[vehicle.vehicle_id] = False
         pids = {child.name: child.pid for child in self.supervisor.children}
@@ -337,9 +337,9 @@ class GroundStation:
 
     def _startup_timeout_s(self) -> float:
         """Wall seconds for every child to come up: the option, or more on a machine that must start many agents
-        (each costs about a second of CPU to import and connect)."""
+        (each costs one to three seconds of CPU to import and connect)."""
         cores = len(os.sched_getaffinity(0))
-        return max(self.options.startup_timeout_s, 30.0 + 1.5 * len(self.vehicle_ids) / cores)
+        return max(self.options.startup_timeout_s, 30.0 + 3.0 * len(self.vehicle_ids) / cores)
 
     # ------------------------------------------------------------------ what is going on
     def _poll_pace(self, buf) -> None:  # noqa: ANN001 - a LatestValueBuffer
