@@ -107,8 +107,8 @@ def parse_case(text: str) -> tuple[str, dict[str, str]]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", default="circle:speed=3",
-                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B] (B: the lockstep reference\'s '
-                             'vehicle backend, px4 by default)')
+                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B,reference=DIR] (B: the lockstep '
+                             'reference\'s vehicle backend, px4 by default; DIR: a lockstep run already made)')
     parser.add_argument("--out", type=Path, default=Path("/tmp/fw_bench_paced"))
     ns = parser.parse_args()
     print(f"machine: {platform.processor() or platform.machine()}, {len(os.sched_getaffinity(0))} cores, "
@@ -120,8 +120,12 @@ def main() -> int:
         clock = options.get("clock", "paced")
         backend = options.get("backend", "px4")
         base = 28000 + 100 * index
-        ref_code, ref_wall_s, ref = run_mission([scenario, "--engine", "lockstep", "--backend", backend, "--mode", mode],
-                                                ns.out / f"{index}-lockstep", base)
+        if "reference" in options:
+            ref_code, ref_wall_s = 0, float("nan")
+            ref = json.loads((Path(options["reference"]) / "metrics.json").read_text())
+        else:
+            ref_code, ref_wall_s, ref = run_mission(
+                [scenario, "--engine", "lockstep", "--backend", backend, "--mode", mode], ns.out / f"{index}-lockstep", base)
         out = ns.out / f"{index}-processes"
         sampler = MemorySampler(out)
         thread = threading.Thread(target=sampler.run, daemon=True)

@@ -118,14 +118,15 @@ def config_from_args(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
     return config, mission, url
 
 
-def _make_link(kind: str, url: str):  # noqa: ANN202 - returns an AutopilotLink
+def _make_link(kind: str, url: str, control_rate_hz: float):  # noqa: ANN202 - returns an AutopilotLink
+    """The MAVLink library's link; MAVSDK asks for the local position at the control rate, no faster."""
     if kind == "pymavlink":
         from vehicle_agents.autopilot_link_pymavlink import PymavlinkAutopilotLink
 
         return PymavlinkAutopilotLink(url)
-    from vehicle_agents.autopilot_link_mavsdk import MavsdkAutopilotLink
+    from vehicle_agents.autopilot_link_mavsdk import TELEMETRY_RATES_HZ, MavsdkAutopilotLink
 
-    return MavsdkAutopilotLink(url)
+    return MavsdkAutopilotLink(url, {**TELEMETRY_RATES_HZ, "position_velocity_ned": control_rate_hz})
 
 
 async def _run(agent: Agent) -> int:
@@ -154,7 +155,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from vehicle_agents.sim_clock_link import SimClockLink
 
     sim_clock = SimClockLink(swarm.session, swarm.keys, config.vehicle_id)
-    agent = Agent(config, _make_link(args.link, url), swarm, sim_clock)
+    agent = Agent(config, _make_link(args.link, url, config.control_rate_hz), swarm, sim_clock)
     code = asyncio.run(_run(agent))
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(

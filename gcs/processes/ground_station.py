@@ -6,7 +6,9 @@ Sequence (SPEC §1, §6):
    before any child starts;
 2. write each child's plan file (``<out>/plan/``: fleet, cameras, one per agent), then start the mock fleet with its
    simulator bridge, the camera renderer, the radio emulator, and one agent process per vehicle;
-3. STARTING: wait until every vehicle is heard on the GCS link and every agent holds its liveliness token;
+3. STARTING: start the agents a few at a time (as many as the machine has cores, twice over, still connecting:
+   200 interpreters importing at once would starve the ones already up past their link watchdogs), and wait until
+   every vehicle is heard on the GCS link and every agent holds its liveliness token;
 4. TAKEOFF: the agents arm, take off and switch to OFFBOARD on their own; when the GCS link shows every vehicle
    armed, airborne and in OFFBOARD, the ground station starts the flood clock and commands ``start``;
 5. MISSION: records ground truth, aggregates and publishes the caged polygon, reports vehicles and agents lost;
@@ -33,6 +35,7 @@ import signal
 import sys
 import time
 import traceback
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -58,7 +61,7 @@ from gcs.metrics.polygon_quality import polygon_iou
 from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
 from gcs.processes.event_log import EventLog
-from gcs.processes.host_capacity import estimate_capacity
+from gcs.processes.host_capacity import agent_niceness, estimate_capacity
 from gcs.plan.files import write_plans
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
@@ -86,8 +89,6 @@ def vehicle_lost_after_s(speed: float) -> float:
     come further apart on the wall clock and the bound widens with them; at or above real time it stays at SPEC
     §7's 2 s."""
     return VEHICLE_LOST_AFTER_S / min(1.0, speed)
-AGENT_NICENESS = 5
-"""Agents run below the simulator's priority (see ``Supervisor.start``)."""
 _AIRBORNE_FRACTION = 0.8
 _COMMAND_REPEAT_S = 0.5
 _SNAPSHOT_PERIOD_S = 5.0
@@ -133,6 +134,8 @@ class GroundStation:
         self.events = EventLog(out_dir / "events.log", lambda: self.mission_t_s)
         self.supervisor = Supervisor(out_dir)
         self.agents: dict[int, Child] = {}
+        self._agents_to_start: list[int] = []
+        self._agent_plans: Mapping[int, Path] = {}
         self.services: dict[str, Child] = {}
         self.flood_start_utc: dt.datetime | None = None
         self.polygon_log: PolygonLog | None = None
@@ -219,17 +222,37 @@ class GroundStation:
         self.services["sim"] = self.supervisor.start("sim", sim_command(opts, plans.fleet))
         self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, plans.cameras))
         self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
-        for vehicle in self.scenario.vehicles:
-            self.agents[vehicle.vehicle_id] = self.supervisor.start(
-                f"agent_{vehicle.vehicle_id}", agent_command(opts, vehicle.vehicle_id, plans.agents[vehicle.vehicle_id],
-                                                                len(self.vehicle_ids)),
-                niceness=AGENT_NICENESS, own_session=False,
+        self._agent_plans = plans.agents
+        self._agents_to_start = [v.vehicle_id for v in self.scenario.vehicles]
+        self._write_pids()
+        self.events(f"started the fleet+truth, cameras and radio processes; {len(self._agents_to_start)} agents follow, "
+                    f"{self._max_agents_connecting()} at a time (logs in {self.out_dir})")
+        self._start_agents()
+
+    def _max_agents_connecting(self) -> int:
+        return 2 * len(os.sched_getaffinity(0))
+
+    def _start_agents(self) -> None:
+        """Start the next agents while fewer than :meth:`_max_agents_connecting` are still connecting."""
+        connecting = sum(1 for vid in self.agents if vid not in self.states)
+        started = 0
+        while self._agents_to_start and connecting < self._max_agents_connecting():
+            vid = self._agents_to_start.pop(0)
+            self.agents[vid] = self.supervisor.start(
+                f"agent_{vid}", agent_command(self.options, vid, self._agent_plans[vid], len(self.vehicle_ids)),
+                niceness=agent_niceness(len(self.vehicle_ids)),
             )
-            self.agent_alive[vehicle.vehicle_id] = False
+            self.agent_alive[vid] = False
+            connecting += 1
+            started += 1
+        if started:
+            self._write_pids()
+            if not self._agents_to_start:
+                self.events(f"all {len(self.agents)} agents started")
+
+    def _write_pids(self) -> None:
         pids = {child.name: child.pid for child in self.supervisor.children}
         (self.out_dir / "processes.json").write_text(json.dumps(pids, indent=1))
-        self.events(f"started {len(self.supervisor.children)} processes: fleet+truth, cameras, radio, "
-                    f"{len(self.agents)} agents (logs in {self.out_dir})")
 
     # ------------------------------------------------------------------ the loop
     async def _watch(self, hub: ZenohSession, watcher: MavlinkWatcher) -> int:
@@ -265,6 +288,7 @@ class GroundStation:
                 self._check_children()
                 self._check_vehicles(watcher, now_wall_s)
                 if self.phase == "starting":
+                    self._start_agents()
                     if self._everyone_up(watcher):
                         self.phase = "takeoff"
                         takeoff_deadline_s = self.mission_t_s + self.options.takeoff_timeout_s
@@ -435,8 +459,13 @@ class GroundStation:
         if silent:
             parts.append(f"no MAVLink from vehicles {silent} on GCS port {self.options.gcs_port}: "
                          f"{self.services['sim'].log_tail(2)}")
-        if no_agent:
-            parts.append(f"agents {no_agent} did not report over Zenoh: {self.agents[no_agent[0]].log_tail(2)}")
+        if self._agents_to_start:
+            parts.append(f"{len(self._agents_to_start)} agents not started yet (the ones before them were still "
+                         f"connecting)")
+        started_silent = [vid for vid in no_agent if vid in self.agents]
+        if started_silent:
+            parts.append(f"agents {started_silent} did not report over Zenoh: "
+                         f"{self.agents[started_silent[0]].log_tail(2)}")
         if self.truth is None:
             parts.append("no ground truth from the simulator bridge")
         return f"start-up timed out after {self.options.startup_timeout_s:g} s: " + "; ".join(parts)

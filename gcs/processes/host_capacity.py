@@ -12,6 +12,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+NICE_WEIGHTS = (1024, 820, 655, 526, 423, 335, 272, 215, 172, 137, 110, 87, 70, 56, 45, 36, 29, 23, 18, 15)
+"""The Linux scheduler's weight of nice 0..19 (``sched_prio_to_weight``): a nice-0 process weighs 1024."""
+AGENTS_SHARE = 4.0
+"""How many nice-0 processes' worth of CPU the whole fleet of agents weighs against the simulator's processes."""
+AGENT_MIN_NICENESS = 5
+"""Even a small fleet's agents run below the simulator, which must keep its clock (a paced one waits anyway)."""
+
 AGENT_FIXED_CORES = 0.027
 """An idle agent's share of a core (MAVSDK's and Zenoh's own threads, telemetry)."""
 AGENT_CORES_PER_HZ = 0.0036
@@ -52,6 +59,18 @@ class CapacityEstimate:
         return (f"warning: {vehicles} agents at {control_rate_hz:g} Hz x{speed:g} need about {self.needed_cores:.1f} "
                 f"cores, this machine has {self.available_cores}: agents will fall behind and vehicles may pass too "
                 "close; lower --speed or control_rate_hz, or use --engine lockstep")
+
+
+def agent_niceness(fleet_size: int) -> int:
+    """The nice value (0..19) of each agent's autogroup whose weight comes nearest to the agents together weighing
+    :data:`AGENTS_SHARE` nice-0 processes, whatever their number.
+
+    Each agent runs in its own session, which Linux schedules as an autogroup of its own: 13 agents at nice 5
+    weigh 4.3 simulator processes, but 208 at nice 5 would weigh 68 and leave the simulator 1 % of a busy machine.
+    """
+    per_agent = AGENTS_SHARE * NICE_WEIGHTS[0] / max(1, fleet_size)
+    nearest = min(range(len(NICE_WEIGHTS)), key=lambda nice: abs(NICE_WEIGHTS[nice] - per_agent))
+    return max(AGENT_MIN_NICENESS, nearest)
 
 
 def estimate_capacity(vehicles: int, control_rate_hz: float, speed: float, available_cores: int) -> CapacityEstimate:

@@ -31,21 +31,18 @@ def _die_with_parent() -> None:
         pass
 
 
-def _child_setup(niceness: int, own_session: bool) -> Callable[[], None]:
+def _child_setup(niceness: int) -> Callable[[], None]:
     """preexec_fn: die with the parent, then lower the CPU priority by ``niceness``.
 
-    Linux schedules sessions as autogroups that share the CPU by the autogroup's nice, whatever their processes'
-    own nice values. A child in its own session therefore gets its autogroup's nice lowered too
-    (``/proc/self/autogroup``). A child that stays in the ground station's session shares that autogroup with every
-    other such child, however many there are, and its own nice only ranks it below the ground station.
+    The child runs in its own session, and Linux schedules sessions as autogroups that share the CPU equally
+    whatever their processes' nice values; so the autogroup's nice is lowered too (``/proc/self/autogroup``),
+    or a busy machine would give each of 13 agents as much CPU as the simulator.
     """
 
     def setup() -> None:
         _die_with_parent()
         if niceness:
             os.nice(niceness)
-            if not own_session:
-                return
             try:
                 with open("/proc/self/autogroup", "w") as autogroup:
                     autogroup.write(str(niceness))
@@ -85,15 +82,12 @@ class Supervisor:
         self._log_dir = log_dir
         self._logs: list[IO[bytes]] = []
 
-    def start(self, name: str, module_args: list[str], env: dict[str, str] | None = None, niceness: int = 0,
-              own_session: bool = True) -> Child:
+    def start(self, name: str, module_args: list[str], env: dict[str, str] | None = None, niceness: int = 0) -> Child:
         """Start ``python -m <module_args...>`` with this interpreter; its output goes to ``<log_dir>/<name>.log``.
 
         ``niceness`` > 0 lowers the child's CPU priority (the agents run at a lower priority than the simulator, so
         on a busy machine the simulated world keeps its clock and the agents are the ones that fall behind, as a
-        slow companion computer would). ``own_session`` False keeps the child in this process's session (its own
-        process group still, for signals): the agents of a fleet share one CPU share against each simulator process
-        instead of one each, which with 200 agents would leave the simulator 1 % of the machine."""
+        slow companion computer would)."""
         log_path = self._log_dir / f"{name}.log"
         log = open(log_path, "ab")  # noqa: SIM115 - closed in stop_all
         self._logs.append(log)
@@ -106,9 +100,8 @@ class Supervisor:
             stdout=log,
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
-            start_new_session=own_session,
-            process_group=None if own_session else 0,
-            preexec_fn=_child_setup(niceness, own_session),
+            start_new_session=True,
+            preexec_fn=_child_setup(niceness),
             env=child_env,
         )
         child = Child(name, process, log_path)
