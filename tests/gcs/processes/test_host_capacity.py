@@ -27,3 +27,14 @@ def test_more_cores_hold_more_agents() -> None:
     assert not estimate_capacity(208, 5.0, 1.0, available_cores=2).fits
     assert estimate_capacity(208, 5.0, 1.0, available_cores=16).fits
     assert estimate_capacity(13, 20.0, 1.0, 2).needed_cores < estimate_capacity(13, 20.0, 2.0, 2).needed_cores
+
+
+def test_agents_together_weigh_about_four_simulator_processes_whatever_their_number() -> None:
+    from gcs.processes.host_capacity import AGENT_MIN_NICENESS, NICE_WEIGHTS, agent_niceness
+
+    assert agent_niceness(13) == 5, "the paper's fleet keeps the nice it always had"
+    assert agent_niceness(1) == AGENT_MIN_NICENESS, "a small fleet still runs below the simulator"
+    for fleet_size in (13, 19, 34, 100, 208):
+        weight = fleet_size * NICE_WEIGHTS[agent_niceness(fleet_size)]
+        assert 2.5 * 1024 <= weight <= 6 * 1024, (fleet_size, weight)
+    assert agent_niceness(10_000) == 19
