@@ -33,7 +33,7 @@ class ProcessOptions:
     zenoh_endpoint: str = DEFAULT_ENDPOINT
     live: bool = True
     startup_timeout_s: float = 60.0
-    """Wall seconds for every child to come up (vehicles heard on the GCS link, agents' liveliness tokens)."""
+    """Wall seconds start-up may go without progress (one more agent connected) before the run fails."""
     takeoff_timeout_s: float = 120.0
     """Mission seconds from start-up until every vehicle is airborne in OFFBOARD."""
     agent_link: str = "mavsdk"
