@@ -11,8 +11,10 @@ The loop ticks every vehicle (physics, timers, due telemetry) at the period the 
 (1 / (rate x speed), between 5 and 20 ms) unless ``tick_period_s`` is given. With ``initial_gate_s`` the clock is
 paced (:mod:`mock_autopilot.clock`): :meth:`Fleet.set_gate` lets it run on, the loop ticks at once when the gate
 moves, ``last_tick_t_s`` tells when physics and telemetry have reached the gate, and heartbeats keep going on the
-wall clock while simulated time stands still (a slow paced run must not look like a lost link). Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i (skipping the GCS port, see ``ports.py``) and its GCS link
-to 127.0.0.1:gcs_port (PX4 SITL conventions). Each link binds its own local port (ephemeral by default, PX4's
+wall clock while simulated time stands still (a slow paced run must not look like a lost link).
+
+Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i (skipping the GCS
+port, see ``ports.py``) and its GCS link to 127.0.0.1:gcs_port (PX4 SITL conventions). Each link binds its own local port (ephemeral by default, PX4's
 14580+i / 18570+i with ``px4_local_ports=True``).
 """
 
