@@ -43,6 +43,7 @@ from rich.console import Console
 from rich.live import Live
 
 from comms.keys import MissionKeys
+from comms.latest_buffer import LatestValueBuffer
 from comms.messages import (
     FLAG_SEES_EDGE,
     CameraStats,
@@ -68,7 +69,7 @@ from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.processes.recorder import MissionRecorder
-from gcs.processes.run_verdict import EngineHealth, engine_verdict, safety_verdict
+from gcs.processes.run_verdict import EngineHealth, EngineVerdict, engine_verdict, safety_verdict
 from gcs.processes.supervisor import Child, Supervisor
 from gcs.report import write_mission_outputs
 from gcs.report.outputs import write_metrics_json
@@ -227,8 +228,8 @@ class GroundStation:
         self._agent_plans = plans.agents
         self._agents_to_start = [v.vehicle_id for v in self.scenario.vehicles]
         self._write_pids()
-        self.events(f"started the fleet+truth, cameras and radio processes; {len(self._agents_to_start)} agents follow, "
-                    f"{self._max_agents_connecting()} at a time (logs in {self.out_dir})")
+        self.events(f"started the fleet+truth, cameras and radio processes; {len(self._agents_to_start)} agents "
+                    f"follow, {self._max_agents_connecting()} at a time (logs in {self.out_dir})")
         self._start_agents()
 
     def _max_agents_connecting(self) -> int:
@@ -296,7 +297,8 @@ class GroundStation:
                         takeoff_deadline_s = self.mission_t_s + self.options.takeoff_timeout_s
                         self.events(f"all {len(self.vehicle_ids)} vehicles and agents up after "
                                     f"{now_wall_s - started_wall_s:.1f} s: taking off")
-                    elif now_wall_s - self._last_startup_progress_wall_s(started_wall_s) > self.options.startup_timeout_s:
+                    elif (now_wall_s - self._last_startup_progress_wall_s(started_wall_s)
+                          > self.options.startup_timeout_s):
                         raise MissionFailed(self._startup_problem(watcher))
                 elif self.phase == "takeoff":
                     if self._everyone_in_offboard(watcher):
@@ -304,7 +306,7 @@ class GroundStation:
                         self.flood_clock_start_s = self.mission_t_s
                         self.flood_start_utc = dt.datetime.now(dt.timezone.utc)
                         self.polygon_log = PolygonLog(self.out_dir, self.scenario.home, start_utc=self.flood_start_utc)
-                        self.events(f"every vehicle airborne in OFFBOARD: flood clock starts, mission start")
+                        self.events("every vehicle airborne in OFFBOARD: flood clock starts, mission start")
                         next_command_s = 0.0
                     elif takeoff_deadline_s is not None and self.mission_t_s > takeoff_deadline_s:
                         raise MissionFailed(self._takeoff_problem(watcher))
@@ -372,7 +374,7 @@ class GroundStation:
         return max(started_wall_s, self._startup_progress_wall_s)
 
     # ------------------------------------------------------------------ what is going on
-    def _poll_pace(self, buf) -> None:  # noqa: ANN001 - a LatestValueBuffer
+    def _poll_pace(self, buf: LatestValueBuffer) -> None:
         """The simulator's pace report and the cameras' frame rate; an agent newly left behind is an event."""
         for item in buf.drain():
             if item.key == self.keys.pace_report:
@@ -474,8 +476,8 @@ class GroundStation:
                          f"{self.agents[started_silent[0]].log_tail(2)}")
         if self.truth is None:
             parts.append("no ground truth from the simulator bridge")
-        return (f"start-up stalled: nothing came up for {self.options.startup_timeout_s:g} s ({self._startup_connected} "
-                f"of {len(self.vehicle_ids)} agents connected): " + "; ".join(parts))
+        return (f"start-up stalled: nothing came up for {self.options.startup_timeout_s:g} s "
+                f"({self._startup_connected} of {len(self.vehicle_ids)} agents connected): " + "; ".join(parts))
 
     def _takeoff_problem(self, watcher: MavlinkWatcher) -> str:
         late = [f"{vid} ({w.mode}, {'armed' if w.armed else 'disarmed'}, {w.altitude_m:.1f} m)"
@@ -570,7 +572,7 @@ class GroundStation:
         """Write the outputs and the verdicts; returns the exit code (``--strict``: 1 on a degraded engine)."""
         engine = engine_verdict(self.pace_report, self.camera_stats, self.vehicle_ids, self.scenario.control_rate_hz,
                                 self.options.clock, cameras_expected=any(r == "boundary" for r in self.roles.values()))
-        self.events(f"{engine.text()}")
+        self.events(engine.text())
         if code == EXIT_OK and self.options.strict and engine.health is EngineHealth.DEGRADED:
             code = EXIT_FAILED
         self.recorder.events = list(self.events.entries)
@@ -589,7 +591,7 @@ class GroundStation:
         self._print_summary(code, engine)
         return code
 
-    def _print_summary(self, code: int, engine) -> None:  # noqa: ANN001 - an EngineVerdict
+    def _print_summary(self, code: int, engine: EngineVerdict) -> None:
         metrics_path = self.out_dir / "metrics.json"
         if not metrics_path.exists():
             return

@@ -48,7 +48,8 @@ class EngineVerdict:
 
     def as_json(self) -> dict[str, Any]:
         return {
-            "health": self.health.value, "clock": self.clock, "real_time_factor": _finite_or_none(self.real_time_factor),
+            "health": self.health.value, "clock": self.clock,
+            "real_time_factor": _finite_or_none(self.real_time_factor),
             "reasons": list(self.reasons), "agent_rate_min_hz": _finite_or_none(self.agent_rate_min_hz),
             "agent_rate_nominal_hz": _finite_or_none(self.agent_rate_nominal_hz),
             "camera_rate_hz": _finite_or_none(self.camera_rate_hz),

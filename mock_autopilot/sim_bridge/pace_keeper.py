@@ -112,7 +112,8 @@ class PaceKeeper:
             held_wall_s=self.held_wall_s,
             participants=[
                 ParticipantPace(participant=name, ticks=r.ticks, first_t_s=r.first_t_s, last_t_s=r.last_t_s,
-                                max_wait_wall_s=r.max_wait_wall_s, left_behind=r.left_behind, times_left_behind=r.times_left_behind, leaving=r.leaving)
+                                max_wait_wall_s=r.max_wait_wall_s, left_behind=r.left_behind,
+                                times_left_behind=r.times_left_behind, leaving=r.leaving)
                 for name, r in sorted(self.pacer.records.items())
             ],
             waiting_for=sorted(self.pacer.waiting_for()),
