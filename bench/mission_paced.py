@@ -32,6 +32,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
+from bench.agent_tick_cost import pss_mb  # noqa: E402
 from gcs.metrics.agreement import disagreements  # noqa: E402
 
 SHOWN = ("encircle_time_s", "polygon_iou_final", "coverage_final", "spacing_cv_final", "tracking_rms_last_10s_m",
@@ -57,7 +58,7 @@ class MemorySampler:
                 continue
             total, agents = 0.0, []
             for name, pid in pids.items():
-                pss = _pss_mib(pid)
+                pss = pss_mb(pid)
                 if pss is None:
                     continue
                 total += pss
@@ -70,16 +71,6 @@ class MemorySampler:
 
     def stop(self) -> None:
         self._stop.set()
-
-
-def _pss_mib(pid: int) -> float | None:
-    try:
-        for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
-            if line.startswith("Pss:"):
-                return int(line.split()[1]) / 1024.0
-    except OSError:
-        return None
-    return None
 
 
 def run_mission(args: list[str], out: Path, base_port: int) -> tuple[int, float, dict]:
