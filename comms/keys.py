@@ -46,6 +46,14 @@ def validate_mission(mission: str) -> str:
     return mission
 
 
+def _participant_chunk(participant: int | str) -> str:
+    """A participant's name as one key chunk (a vehicle id or a service name); raises KeyNameError otherwise."""
+    name = str(participant)
+    if not _SERVICE_RE.match(name):
+        raise KeyNameError(f"participant name {name!r}: use letters, digits, '_', '.', '-'")
+    return name
+
+
 @dataclass(frozen=True)
 class MissionKeys:
     """Every key expression of one mission; build once, pass around (``MissionKeys("circle")``)."""
@@ -73,10 +81,7 @@ class MissionKeys:
 
     def alive(self, participant: int | str) -> str:
         """Liveliness token key of a vehicle's agent (int id) or a service name (``gcs``, ``radio``, ``sim``)."""
-        name = str(participant)
-        if not _SERVICE_RE.match(name):
-            raise KeyNameError(f"participant name {name!r}: use letters, digits, '_', '.', '-'")
-        return f"{self.prefix}/alive/{name}"
+        return f"{self.prefix}/alive/{_participant_chunk(participant)}"
 
     @property
     def all_alive(self) -> str:
@@ -122,10 +127,7 @@ class MissionKeys:
 
     def pace(self, participant: int | str) -> str:
         """Where ``participant`` (a vehicle id, ``cameras`` or ``radio``) acknowledges the ticks it has done."""
-        name = str(participant)
-        if not _SERVICE_RE.match(name):
-            raise KeyNameError(f"participant name {name!r}: use letters, digits, '_', '.', '-'")
-        return f"{self.prefix}/sim/pace/{name}"
+        return f"{self.prefix}/sim/pace/{_participant_chunk(participant)}"
 
     @property
     def all_pace(self) -> str:

@@ -56,6 +56,12 @@ class PaceAction:
     participant: str = ""
 
 
+def tick_rate_hz(ticks: int, first_t_s: float, last_t_s: float) -> float:
+    """Achieved rate of ``ticks`` acknowledged between mission times ``first_t_s`` and ``last_t_s`` (NaN before two)."""
+    span_s = last_t_s - first_t_s
+    return (ticks - 1) / span_s if ticks > 1 and span_s > 0 else math.nan
+
+
 @dataclass
 class ParticipantRecord:
     """One participant as the pacer sees it (mission times of its acknowledgements, wall time of its waits)."""
@@ -70,8 +76,7 @@ class ParticipantRecord:
 
     def rate_hz(self) -> float:
         """Ticks per mission second over the span it acknowledged (NaN before two ticks)."""
-        span_s = self.last_t_s - self.first_t_s
-        return (self.ticks - 1) / span_s if self.ticks > 1 and span_s > 0 else math.nan
+        return tick_rate_hz(self.ticks, self.first_t_s, self.last_t_s)
 
 
 class Pacer:

@@ -20,6 +20,7 @@ from enum import Enum
 from typing import Any
 
 from comms.messages import CameraStats, PaceReport
+from mock_autopilot.pacing import tick_rate_hz
 
 RATE_TOLERANCE = 0.95
 """An agent or camera holding at least this fraction of its nominal rate held it."""
@@ -99,8 +100,7 @@ def engine_verdict(report: PaceReport | None, cameras: CameraStats | None, agent
         if record is None:
             reasons.append(f"agent {vid} never reported a tick")
             continue
-        span_s = record.last_t_s - record.first_t_s
-        rates[vid] = (record.ticks - 1) / span_s if record.ticks > 1 and span_s > 0 else math.nan
+        rates[vid] = tick_rate_hz(record.ticks, record.first_t_s, record.last_t_s)
     slow = sorted(vid for vid, hz in rates.items() if not hz >= tolerance * control_rate_hz)
     if slow:
         worst = min((rates[v] for v in slow if math.isfinite(rates[v])), default=math.nan)
