@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
 from comms.radio_emulator import RadioEmulator, RadioEmulatorConfig
-from comms.radio_model import RadioModel
+from comms.radio_model import BurstLoss, RadioModel
 from comms.zenoh_session import ZenohOpenError
 
 
@@ -28,6 +28,12 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--loss", type=float, default=0.0, help="packet loss probability per link and message")
     parser.add_argument("--latency-s", type=float, default=0.0, help="minimum one-way delay [s, sim time]")
     parser.add_argument("--jitter-s", type=float, default=0.0, help="extra uniform delay width [s, sim time]")
+    parser.add_argument("--burst-loss", type=float, default=1.0, help="loss probability in a burst (bad state)")
+    parser.add_argument("--burst-mean-s", type=float, default=0.0, help="mean burst length [mission s]; 0: no bursts")
+    parser.add_argument("--burst-gap-s", type=float, default=0.0, help="mean time between bursts [mission s]")
+    parser.add_argument("--edge-loss", type=float, default=0.0, help="extra loss at the range limit from distance")
+    parser.add_argument("--edge-loss-exponent", type=float, default=2.0, help="growth of the distance loss with d / range")
+    parser.add_argument("--bandwidth-bytes-per-s", type=float, default=0.0, help="each drone's budget; 0: unlimited")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--speed", type=float, default=1.0, help="simulation seconds per wall second")
     parser.add_argument("--clock", choices=("free", "paced"), default="free",
@@ -49,7 +55,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         config = RadioEmulatorConfig(
             mission=args.mission,
             zenoh=zenoh_config_from_args(args),
-            radio=RadioModel(args.range_m, args.loss, args.latency_s, args.jitter_s, args.seed),
+            radio=RadioModel(
+                args.range_m, args.loss, args.latency_s, args.jitter_s, args.seed,
+                burst=BurstLoss(args.burst_mean_s, args.burst_gap_s) if args.burst_mean_s > 0 else None,
+                burst_loss_probability=args.burst_loss, edge_loss_probability=args.edge_loss,
+                edge_loss_exponent=args.edge_loss_exponent, bandwidth_bytes_per_s=args.bandwidth_bytes_per_s,
+            ),
             speed=args.speed,
             stats_period_s=args.stats_period_s,
             tick_s=args.tick_s,
@@ -77,7 +88,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         emulator.stop()
     c = emulator.relay.counters
     print(f"comms.radio: {time.monotonic() - started:.1f} s, in {c.messages_in}, delivered {c.delivered}, lost {c.lost}, "
-          f"out of range {c.out_of_range}, rejected {c.rejected}, no truth {c.no_truth}, superseded {emulator.input_superseded}", file=sys.stderr)
+          f"out of range {c.out_of_range}, over budget {c.over_budget}, rejected {c.rejected}, no truth {c.no_truth}, superseded {emulator.input_superseded}", file=sys.stderr)
     return 0
 
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from comms.byte_budget import SenderBudgets
 from comms.keys import MissionKeys
 from comms.messages import (
     DecodeStats,
@@ -59,6 +60,7 @@ class RelayCounters:
     ignored_old: int = 0  # seq not newer than the last one forwarded for that sender (unless the agent restarted)
     no_truth: int = 0  # no truth yet, or the sender is not in the truth (unknown or dead vehicle)
     queue_overflow: int = 0
+    over_budget: int = 0  # dropped at the sender's radio: over its bytes per mission second
 
 
 class RadioRelay:
@@ -78,7 +80,8 @@ class RadioRelay:
         self.stats = DecodeStats() if stats is None else stats
         self.counters = RelayCounters()
         self.max_in_flight = max_in_flight
-        self._batch: list[tuple[int, int, bytes, float]] = []  # (truth slot, seq, payload, rx time)
+        self._batch: list[tuple[int, int, bytes, float, float]] = []  # (truth slot, seq, payload, rx time, source t)
+        self.budgets = SenderBudgets(radio.bandwidth_bytes_per_s)
         self._batch_ids: list[int] = []
         self._in_flight: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []  # due, receiver id, sender id, payload
         self._in_flight_count = 0
@@ -126,7 +129,10 @@ class RadioRelay:
         if self._positions is None or slot is None or not np.isfinite(self._positions[slot]).all():
             self.counters.no_truth += 1
             return None
-        self._batch.append((slot, state.seq, payload, now_s))
+        if not self.budgets.admit(sid, len(payload), state.t_s):
+            self.counters.over_budget += 1
+            return None
+        self._batch.append((slot, state.seq, payload, now_s, state.t_s))
         return state
 
     def flush(self) -> None:
@@ -138,9 +144,10 @@ class RadioRelay:
         slots = np.fromiter((b[0] for b in batch), dtype=np.int64, count=len(batch))
         seqs = np.fromiter((b[1] for b in batch), dtype=np.int64, count=len(batch))
         rx_s = np.fromiter((b[3] for b in batch), dtype=float, count=len(batch))
+        source_t_s = np.fromiter((b[4] for b in batch), dtype=float, count=len(batch))
         payloads = np.empty(len(batch), dtype=object)
         payloads[:] = [b[2] for b in batch]
-        tx = self.radio.send_many(slots, self._positions, 0.0, seqs, vehicle_ids=self._ids)
+        tx = self.radio.send_many(slots, self._positions, 0.0, seqs, vehicle_ids=self._ids, clock_t_s=source_t_s)
         assert tx.message_index is not None
         c = self.counters
         c.out_of_range += len(batch) * (self._alive_count - 1) - tx.receiver_index.size

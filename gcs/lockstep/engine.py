@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from comms.frames import enu_to_geodetic, local_ned_to_mission_enu, ned_to_enu
 from comms.messages import NeighbourState
-from comms.radio_model import RadioModel
+from comms.radio_model import radio_model_of
 from gcs.lockstep.backend_choice import BackendKind, make_backend
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
@@ -153,7 +153,7 @@ def run_lockstep(
     dt_s = 1.0 / scenario.control_rate_hz
     steps = int(math.floor(duration_s / dt_s + 1e-9))
     radio = InMemoryRadio(
-        RadioModel(scenario.radio.range_m, scenario.radio.loss, scenario.radio.latency_s, scenario.radio.jitter_s, seed),
+        radio_model_of(scenario.radio, seed),
         ids,
     )
     fleet = make_backend(backend, scenario)

@@ -4,8 +4,8 @@
 Every control step each drone's onboard core hands over its :class:`~comms.messages.NeighbourState`; it is encoded
 as on Zenoh (MessagePack) and decoded once, and that one decoded message goes to every receiver the model lets hear
 it (range on TRUE positions, seeded loss by the message's own ``seq``, as the radio emulator draws it, latency and
-jitter), so what only travels on the wire (the ring radius in ``extras``, the subsampled edge points) reaches the
-control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
+jitter; bursts on the message's own time stamp; each sender's byte budget), so what only travels on the wire (the
+ring radius in ``extras``, the subsampled edge points) reaches the control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
 as it does on the public state keys.
 """
 
@@ -16,6 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from comms.byte_budget import SenderBudgets
 from comms.messages import DecodeStats, NeighbourState, decode, encode
 from comms.radio_model import RadioModel
 from vehicle_agents.core.neighbours import Inbox
@@ -37,21 +38,26 @@ class InMemoryRadio:
         self.heard_total = 0
         self.lost_total = 0
         self.bytes_sent = 0
+        self.budgets = SenderBudgets(model.bandwidth_bytes_per_s)
 
     def broadcast(
         self, t_s: float, positions_enu_m: NDArray[np.float64], messages: Sequence[NeighbourState | None]
     ) -> list[NeighbourState | None]:
         """Everyone with a message (None: silent) broadcasts at ``t_s``; returns the decoded messages (what a
-        listener on the public keys receives)."""
+        listener on the public keys receives, the ones over the sender's byte budget included)."""
         decoded: list[NeighbourState | None] = []
-        for message in messages:
+        on_air: list[int] = []
+        for i, message in enumerate(messages):
             if message is None:
                 decoded.append(None)
                 continue
             payload = encode(message)
             self.bytes_sent += len(payload)
-            decoded.append(decode(NeighbourState, payload, self.stats))
-        senders = np.array([i for i, m in enumerate(decoded) if m is not None], dtype=np.int64)
+            state = decode(NeighbourState, payload, self.stats)
+            decoded.append(state)
+            if state is not None and self.budgets.admit(int(self.vehicle_ids[i]), len(payload), state.t_s):
+                on_air.append(i)
+        senders = np.array(on_air, dtype=np.int64)
         if senders.size == 0:
             return decoded
         seqs = np.array([m.seq if m is not None else 0 for m in decoded], dtype=np.int64)

@@ -69,6 +69,10 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
     return [
         "comms.radio", "--mission", mission, "--range-m", f"{radio.range_m:g}", "--loss", f"{radio.loss:g}",
         "--latency-s", f"{radio.latency_s:g}", "--jitter-s", f"{radio.jitter_s:g}", "--seed", str(scenario.seed),
+        "--burst-loss", f"{radio.burst_loss:g}", "--burst-mean-s", f"{radio.burst_mean_s:g}",
+        "--burst-gap-s", f"{radio.burst_gap_s:g}", "--edge-loss", f"{radio.edge_loss:g}",
+        "--edge-loss-exponent", f"{radio.edge_loss_exponent:g}",
+        "--bandwidth-bytes-per-s", f"{radio.bandwidth_bytes_per_s:g}",
         "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, "--clock", options.clock,
     ]
 
