@@ -23,6 +23,8 @@ from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
 from vehicle_agents.control.types import NeighbourInfo
+from vehicle_agents.core.filtered_neighbours import filter_noise, filtered_infos, table_hold_s, track_step
+from vehicle_agents.core.neighbour_filter import EMPTY_BANK, TrackBank
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
 from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
@@ -92,6 +94,8 @@ class OnboardState:
     heard: tuple[Mapping[int, NeighbourState], ...]
     departed: tuple[frozenset[int], ...]
     seq: tuple[int, ...]
+    tracks: tuple[TrackBank, ...] = ()
+    """Each drone's neighbour filter (empty while the filter is off)."""
 
 
 @dataclass(frozen=True)
@@ -115,6 +119,7 @@ def initial_state(plan: OnboardPlan, phase: Phase = Phase.CONNECTING) -> Onboard
         heard=({},) * n,
         departed=(frozenset(),) * n,
         seq=(0,) * n,
+        tracks=(EMPTY_BANK,) * n,
     )
 
 
@@ -128,6 +133,9 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     heard = list(state.heard)
     departed = list(state.departed)
     seq = list(state.seq)
+    tracks = list(state.tracks) if state.tracks else [EMPTY_BANK] * n
+    noise = filter_noise(params) if params.neighbour_filter else None
+    timeout_s = table_hold_s(params) if noise is not None else params.neighbour_timeout_s
     actions: list[Action] = []
     setpoints = np.zeros((n, 3))
     yaws = np.zeros(n)
@@ -143,12 +151,16 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         actions.append(action)
         vid = plan.vehicle_ids[i]
         inbox = inputs.inbox[i] if inputs.inbox else EMPTY_INBOX
-        heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, params.neighbour_timeout_s)
+        heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, timeout_s)
+        if noise is not None:
+            tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         if action is Action.FLY:
             infos = []
             table = heard[i]
-            for sender in sorted(table):
+            if noise is not None:
+                tracks[i], infos = filtered_infos(tracks[i], table, t_s, noise)
+            for sender in sorted(table) if noise is None else ():
                 msg = table[sender]
                 info = converted.get(id(msg))
                 if info is None:
@@ -170,5 +182,5 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         ))
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
-                        departed=tuple(departed), seq=tuple(seq))
+                        departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks))
     return outputs, new_state
