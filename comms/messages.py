@@ -35,6 +35,7 @@ Point2 = tuple[float, float]
 Point3 = tuple[float, float, float]
 
 MAX_EDGE_POINTS = 256
+MAX_RELAYED = 64
 
 # Status flags carried in NeighbourState.flags (a bit field keeps the message small and extensible).
 FLAG_ARMED = 1 << 0
@@ -73,6 +74,9 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     B on its right), ``encircle_complete`` (the two groups' leading drones met), and ``edge_points_en_m``: points
     of the water edge its camera sees, absolute mission ENU [m], for the ground station's caged polygon.
     ``extras`` carries control-mode specific numbers (e.g. an improved mode's spacing consensus) by name.
+    ``relayed``: other drones' states this one heard, passed on for drones out of their range (multi-hop
+    knowledge); each copy keeps its origin's ``sender_id``, ``seq`` and ``t_s`` and counts its ``hops`` from the
+    origin (0: the origin's own message). Copies carry no ``relayed`` list of their own.
     """
 
     sender_id: int
@@ -92,10 +96,14 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     encircle_complete: bool = False
     edge_points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=MAX_EDGE_POINTS)] = []
     extras: dict[str, float] = {}
+    hops: int = 0
+    relayed: Annotated[list[NeighbourState], msgspec.Meta(max_length=MAX_RELAYED)] = []
 
     def __post_init__(self) -> None:
-        if self.sender_id < 0 or self.seq < 0:
-            raise InvalidMessage("sender_id and seq must be >= 0")
+        if self.sender_id < 0 or self.seq < 0 or self.hops < 0:
+            raise InvalidMessage("sender_id, seq and hops must be >= 0")
+        if self.relayed and any(copy.relayed or copy.hops < 1 for copy in self.relayed):
+            raise InvalidMessage("a relayed copy carries hops >= 1 and no relayed list")
         # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
         p, v = self.position_en_m, self.velocity_en_mps
         if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):

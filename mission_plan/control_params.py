@@ -76,7 +76,7 @@ class ControlParams:
     """Improved: drones relay what they heard, up to this many hops from the origin (0: no relay)."""
     relay_max_age_s: float = 2.0
     """A relayed state older than this (by its origin's time stamp) is not relayed further."""
-    relay_budget_bytes: int = 1200
+    relay_budget_bytes: int = 3000
     """At most this many encoded bytes of relayed states ride on one state message."""
     follower_cover_fraction: float = 0.9
     """A layer of footprints covers this fraction of a footprint side radially (for the layer-release test)."""

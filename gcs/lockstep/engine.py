@@ -30,6 +30,7 @@ from comms.frames import enu_to_geodetic, local_ned_to_mission_enu, ned_to_enu
 from comms.messages import NeighbourState
 from comms.radio_model import radio_model_of
 from gcs.lockstep.backend_choice import BackendKind, make_backend
+from gcs.lockstep.ground_node import GROUND_NODE_ID, GroundNode, antenna_enu_m
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
@@ -154,8 +155,9 @@ def run_lockstep(
     steps = int(math.floor(duration_s / dt_s + 1e-9))
     radio = InMemoryRadio(
         radio_model_of(scenario.radio, seed),
-        ids,
+        [*ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else ids,
     )
+    ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(pads))
     fleet = make_backend(backend, scenario)
     state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
@@ -186,6 +188,9 @@ def run_lockstep(
         positions = local_ned_to_mission_enu(state.position_ned_m, pads)
         positions[~state.alive] = np.nan
         inboxes = radio.deliver(t_s)
+        if ground is not None:
+            ground.hear(inboxes[n].states, t_s)
+            inboxes = inboxes[:n]
         if slot_reached(next_frame_t, t_s):
             next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
             for i, vehicle in enumerate(vehicles):
@@ -195,9 +200,13 @@ def run_lockstep(
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, positions, gps, scenario),
                                perception=perceptions, inbox=inboxes, orders=orders)
         outputs, core = onboard_step(plan, core, inputs)
-        for message in radio.broadcast(t_s, positions, outputs.state_messages):
-            if message is not None:
-                gcs_heard[message.sender_id] = message
+        if ground is None:
+            for message in radio.broadcast(t_s, positions, outputs.state_messages):
+                if message is not None:
+                    gcs_heard[message.sender_id] = message
+        else:
+            radio.broadcast(t_s, ground.with_antenna(positions), [*outputs.state_messages, None])
+            gcs_heard = dict(ground.heard)
         sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)
         commands_enu = ned_to_enu(outputs.velocity_setpoint_ned_mps)
         commands_enu[~sent] = 0.0

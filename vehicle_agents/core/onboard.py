@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
+import msgspec
 import numpy as np
 from numpy.typing import NDArray
 
@@ -26,6 +27,7 @@ from vehicle_agents.control.types import NeighbourInfo
 from vehicle_agents.core.filtered_neighbours import filter_noise, filtered_infos, table_hold_s, track_step
 from vehicle_agents.core.neighbour_filter import EMPTY_BANK, TrackBank
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
+from vehicle_agents.core.relay import relay_copies, unpacked
 from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
 from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
@@ -151,6 +153,8 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         actions.append(action)
         vid = plan.vehicle_ids[i]
         inbox = inputs.inbox[i] if inputs.inbox else EMPTY_INBOX
+        if params.relay_max_hops > 0 and inbox.states:
+            inbox = replace(inbox, states=unpacked(inbox.states))
         heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, timeout_s)
         if noise is not None:
             tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
@@ -175,11 +179,16 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             messages.append(None)
             continue
         seq[i] += 1
-        messages.append(state_message(
+        message = state_message(
             seq=seq[i], t_s=t_s, broadcast=own_broadcast(memories[i], own, t_s), own=own, tel=tel,
             perception=inputs.perception[i], edge_points_en_m=memories[i].edge_points_en_m,
             leaving=action is Action.EXIT, low_battery=tel.battery_fraction < plan.limits.low_battery_fraction,
-        ))
+        )
+        if params.relay_max_hops > 0:
+            copies = relay_copies(heard[i], vid, t_s, seq[i], params.relay_max_hops, params.relay_max_age_s,
+                                  params.relay_budget_bytes)
+            message = msgspec.structs.replace(message, relayed=copies) if copies else message
+        messages.append(message)
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
                         departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks))
