@@ -34,6 +34,8 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--edge-loss", type=float, default=0.0, help="extra loss at the range limit from distance")
     parser.add_argument("--edge-loss-exponent", type=float, default=2.0, help="growth of the distance loss with d / range")
     parser.add_argument("--bandwidth-bytes-per-s", type=float, default=0.0, help="each drone's budget; 0: unlimited")
+    parser.add_argument("--ground-node", type=float, nargs=3, metavar=("E", "N", "U"), default=None,
+                        help="the ground station's antenna [m; mission ENU] as a receiver (inbox radio/0/inbox)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--speed", type=float, default=1.0, help="simulation seconds per wall second")
     parser.add_argument("--clock", choices=("free", "paced"), default="free",
@@ -65,6 +67,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             stats_period_s=args.stats_period_s,
             tick_s=args.tick_s,
             paced=args.clock == "paced",
+            ground_node_enu_m=None if args.ground_node is None else tuple(args.ground_node),
         )
     except (ValueError, KeyNameError) as error:
         print(f"comms.radio: {error}", file=sys.stderr)

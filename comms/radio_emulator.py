@@ -40,7 +40,7 @@ from comms.messages import (
     decode,
     encode,
 )
-from comms.radio_model import RadioModel
+from comms.radio_model import GROUND_NODE_ID, RadioModel
 from comms.zenoh_session import ZenohConfig, ZenohSession
 
 
@@ -72,7 +72,8 @@ class RadioRelay:
     simulation seconds and are divided by ``speed`` (simulation seconds per relay second).
     """
 
-    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000) -> None:
+    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000,
+                 ground_node_enu_m: tuple[float, float, float] | None = None) -> None:
         if speed <= 0:
             raise ValueError("speed must be > 0")
         self.radio = radio
@@ -82,6 +83,7 @@ class RadioRelay:
         self.max_in_flight = max_in_flight
         self._batch: list[tuple[int, int, bytes, float, float]] = []  # (truth slot, seq, payload, rx time, source t)
         self.budgets = SenderBudgets(radio.bandwidth_bytes_per_s)
+        self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
         self._batch_ids: list[int] = []
         self._in_flight: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []  # due, receiver id, sender id, payload
         self._in_flight_count = 0
@@ -107,16 +109,20 @@ class RadioRelay:
         self.flush()
         self.truth_t_s = truth.t_s
         self._positions = truth.positions_array()
+        vehicle_ids = list(truth.vehicle_ids)
+        if self.ground_node_enu_m is not None:
+            self._positions = np.vstack([self._positions, np.asarray(self.ground_node_enu_m, dtype=float)[None, :]])
+            vehicle_ids.append(GROUND_NODE_ID)
         self._alive_count = int(np.count_nonzero(np.isfinite(self._positions).all(axis=1)))
-        self._ids = np.asarray(truth.vehicle_ids, dtype=np.int64)
+        self._ids = np.asarray(vehicle_ids, dtype=np.int64)
         self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids)}
-        self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in truth.vehicle_ids], dtype=np.int64)
+        self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in vehicle_ids], dtype=np.int64)
 
     def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float) -> NeighbourState | None:
         """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``."""
         self.counters.messages_in += 1
         state = decode(NeighbourState, payload, self.stats)
-        if state is None or state.sender_id != key_vehicle_id:
+        if state is None or state.sender_id != key_vehicle_id or state.sender_id == GROUND_NODE_ID:
             self.counters.rejected += 1
             return None
         sid = state.sender_id
@@ -261,6 +267,8 @@ class RadioEmulatorConfig:
     tick_s: float = 0.005  # at most one delivery cycle per tick: batches messages, bounds puts per second
     paced: bool = False
     """Mission time from the truth stream, and each truth acknowledged (a paced simulation clock)."""
+    ground_node_enu_m: tuple[float, float, float] | None = None
+    """The ground station's antenna [m; mission ENU] when it is a radio node (its inbox is ``radio/0/inbox``)."""
 
 
 class RadioEmulator:
@@ -274,7 +282,8 @@ class RadioEmulator:
         self.keys = MissionKeys(config.mission)
         self._own_session = session is None
         self.session = ZenohSession(config.zenoh) if session is None else session
-        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed)
+        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed,
+                                ground_node_enu_m=config.ground_node_enu_m)
         self.bundles_out = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None

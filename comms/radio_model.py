@@ -44,6 +44,9 @@ if TYPE_CHECKING:
 
 __all__ = ["BurstLoss", "RadioModel", "Transmission", "radio_model_of", "uniform_draw"]
 
+GROUND_NODE_ID = 0
+"""The ground station's id as a receiver on the radio (vehicle ids start at 1); it never transmits there."""
+
 _STREAM_LOSS = 1
 _STREAM_JITTER = 2
 

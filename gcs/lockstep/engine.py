@@ -28,9 +28,9 @@ from numpy.typing import NDArray
 
 from comms.frames import enu_to_geodetic, local_ned_to_mission_enu, ned_to_enu
 from comms.messages import NeighbourState
-from comms.radio_model import radio_model_of
+from comms.radio_model import GROUND_NODE_ID, radio_model_of
 from gcs.lockstep.backend_choice import BackendKind, make_backend
-from gcs.lockstep.ground_node import GROUND_NODE_ID, GroundNode, antenna_enu_m
+from gcs.polygon.radio_node import GroundNode, antenna_enu_m
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s

@@ -55,7 +55,8 @@ from comms.messages import (
     encode,
     flood_polygon_from_enu,
 )
-from comms.swarm_link import SwarmLink
+from comms.radio_model import GROUND_NODE_ID
+from comms.swarm_link import SwarmLink, bundle_unpacker
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage
 from gcs.metrics.polygon_quality import polygon_iou
@@ -67,6 +68,7 @@ from gcs.plan.files import write_plans
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
 from gcs.processes.mavlink_watch import MavlinkWatcher
+from gcs.polygon.radio_node import GroundNode, antenna_enu_m
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.processes.recorder import MissionRecorder
 from gcs.processes.run_verdict import EngineHealth, EngineVerdict, engine_verdict, safety_verdict
@@ -127,6 +129,10 @@ class GroundStation:
         self.flood_clock_start_s: float | None = None
         self.truth: GroundTruth | None = None
         self.states: dict[int, NeighbourState] = {}
+        self.radio_node = None if scenario.radio.gcs_lossless else GroundNode(
+            antenna_enu_m(np.array([v.pad_enu_m for v in scenario.vehicles], dtype=float)))
+        """The ground station as a radio node: the polygon is built from what reaches its antenna (the public
+        state keys still serve supervision: who is up, who is lost)."""
         self.agent_alive: dict[int, bool] = {}
         self.lost: dict[int, float] = {}
         self.polygon_iou = math.nan
@@ -263,6 +269,8 @@ class GroundStation:
         pace_buf = hub.subscribe(self.keys.pace_report)
         hub.subscribe(self.keys.camera_stats, pace_buf)
         link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
+        node_buf = None if self.radio_node is None else hub.subscribe(
+            self.keys.inbox(GROUND_NODE_ID), LatestValueBuffer(), unpack=bundle_unpacker(self.keys))
         started_wall_s = time.monotonic()
         takeoff_deadline_s: float | None = None
         clock_seen = (self.mission_t_s, time.monotonic())
@@ -286,6 +294,8 @@ class GroundStation:
                         self.truth = truth
                         self.mission_t_s = truth.t_s
                 self._poll_swarm(link)
+                if node_buf is not None:
+                    self._poll_radio_node(node_buf)
                 self._poll_pace(pace_buf)
                 clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
                 self._check_children()
@@ -507,11 +517,18 @@ class GroundStation:
         sides = np.where(alive & np.isfinite(sides), sides, 0.0)
         self.recorder.add(truth.t_s - (self.flood_clock_start_s or 0.0), positions, velocities, sides, alive)
 
+    def _poll_radio_node(self, buffer: LatestValueBuffer) -> None:
+        assert self.radio_node is not None
+        states = [s for item in buffer.drain() if item.kind == "put"
+                  for s in [decode(NeighbourState, item.payload)] if s is not None]
+        self.radio_node.hear(states, self.mission_t_s)
+
     def _polygon(self, hub: ZenohSession, flood_t_s: float) -> None:
-        leader = self.states.get(self.leader_id) if self.leader_id is not None else None
+        heard = self.states if self.radio_node is None else self.radio_node.heard
+        leader = heard.get(self.leader_id) if self.leader_id is not None else None
         offset = georeference_offset_en_m(leader, self.scenario.home)
         max_age_s = report_max_age_s(self.scenario.control_rate_hz)
-        ring = aggregate_polygon(self.states, self.ring_order, offset, self.mission_t_s, max_age_s)
+        ring = aggregate_polygon(heard, self.ring_order, offset, self.mission_t_s, max_age_s)
         truth_ring = self.flood.boundary_en_m(flood_t_s)
         if len(ring) >= 3:
             self.recorder.polygons.append(PolygonSample(t_s=flood_t_s, ring_en_m=ring))

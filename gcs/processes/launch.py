@@ -10,7 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from comms.zenoh_session import DEFAULT_ENDPOINT
+from gcs.polygon.radio_node import antenna_enu_m
 from gcs.scenario import Scenario
 from mock_autopilot.ports import onboard_port
 
@@ -73,8 +76,17 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
         "--burst-gap-s", f"{radio.burst_gap_s:g}", "--edge-loss", f"{radio.edge_loss:g}",
         "--edge-loss-exponent", f"{radio.edge_loss_exponent:g}",
         "--bandwidth-bytes-per-s", f"{radio.bandwidth_bytes_per_s:g}",
+        *ground_node_args(scenario),
         "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, "--clock", options.clock,
     ]
+
+
+def ground_node_args(scenario: Scenario) -> list[str]:
+    """``--ground-node E N U`` when the ground station is a radio node (``radio.gcs_lossless = false``)."""
+    if scenario.radio.gcs_lossless:
+        return []
+    antenna = antenna_enu_m(np.array([v.pad_enu_m for v in scenario.vehicles], dtype=float))
+    return ["--ground-node", *(f"{c:.3f}" for c in antenna)]
 
 
 MESH_LIMIT = 50

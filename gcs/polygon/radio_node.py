@@ -1,10 +1,11 @@
-"""The ground station as a node of the swarm radio (lockstep): it hears what reaches its antenna at the launch site.
+"""The ground station as a node of the swarm radio: it hears what reaches its antenna at the launch site.
 
 No rescue team hears every drone losslessly: its ground station sits at the launch site with the same radio as the
 drones, so the polygon it sends on depends on which boundary drones are in its range and on what the others relay
 (:mod:`vehicle_agents.core.relay`). The node never transmits on the swarm radio (its orders stay on their own
-link); it is one more receiver row for :class:`~gcs.lockstep.radio_link.InMemoryRadio`, with the vehicle id
-:data:`GROUND_NODE_ID`, and files what it hears with the drones' own rule (newest ``seq`` per origin, relayed
+link); it is one more receiver row of the radio, with the id :data:`~comms.radio_model.GROUND_NODE_ID`
+(:class:`~gcs.lockstep.radio_link.InMemoryRadio` in lockstep, ``python -m comms.radio --ground-node`` over
+processes, which delivers to ``radio/0/inbox``), and files what it hears with the drones' own rule (newest ``seq`` per origin, relayed
 copies unpacked). ``radio.gcs_lossless = true`` keeps the station outside the radio, hearing every broadcast.
 """
 
@@ -16,11 +17,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from comms.messages import NeighbourState
+from comms.radio_model import GROUND_NODE_ID
 from vehicle_agents.core.neighbours import Inbox, heard_after
 from vehicle_agents.core.relay import unpacked
 
-GROUND_NODE_ID = 0
-"""The ground station's id on the radio (vehicle ids start at 1)."""
 ANTENNA_HEIGHT_M = 2.0
 """Height of the ground station's antenna above the launch site [m] (a mast on a vehicle roof)."""
 _TABLE_HOLD_S = 60.0
