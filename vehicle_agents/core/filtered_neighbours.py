@@ -9,7 +9,6 @@ departures; it holds entries for :func:`table_hold_s`, longer than any track can
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import replace
 
 from comms.messages import NeighbourState
 from vehicle_agents.control.params import ControlParams
@@ -42,15 +41,23 @@ def track_step(bank: TrackBank, states: Sequence[NeighbourState], departed: froz
     return update(without(bank, departed), measurements, noise)
 
 
-def filtered_infos(bank: TrackBank, table: Mapping[int, NeighbourState], t_s: float,
-                   noise: FilterNoise) -> tuple[TrackBank, list[NeighbourInfo]]:
-    """The live tracks at ``t_s`` (the others dropped at the bound) as the laws read them, in id order."""
+def filtered_infos(bank: TrackBank, table: Mapping[int, NeighbourState], t_s: float, noise: FilterNoise,
+                   converted: dict[int, NeighbourInfo] | None = None) -> tuple[TrackBank, list[NeighbourInfo]]:
+    """The live tracks at ``t_s`` (the others dropped at the bound) as the laws read them, in id order.
+
+    ``converted`` caches each message's conversion by object id across the drones of one step (in lockstep one
+    decoded message reaches many receivers); only position and velocity differ per receiver.
+    """
     bank, x, _ = at_time(bank, t_s, noise)
+    cache = {} if converted is None else converted
     infos = []
     for row, vid in enumerate(bank.ids.tolist()):
         msg = table.get(vid)
         if msg is None:
             continue
-        info = neighbour_info(msg, 0.0)
-        infos.append(replace(info, position_en_m=x[row, :2].copy(), velocity_en_mps=x[row, 2:].copy()))
+        base = cache.get(id(msg))
+        if base is None:
+            base = cache[id(msg)] = neighbour_info(msg, 0.0)
+        infos.append(NeighbourInfo(base.vehicle_id, base.role, x[row, :2], x[row, 2:], base.altitude_m, 0.0,
+                                   base.group, base.leading, base.encircled, base.ring_radius_m))
     return bank, infos

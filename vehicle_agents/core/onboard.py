@@ -143,6 +143,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     yaws = np.zeros(n)
     messages: list[NeighbourState | None] = []
     converted: dict[int, NeighbourInfo] = {}
+    filtered_cache: dict[int, NeighbourInfo] = {}
     for i in range(n):
         tel = inputs.telemetry.vehicle(i)
         order = inputs.orders[i]
@@ -163,7 +164,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             infos = []
             table = heard[i]
             if noise is not None:
-                tracks[i], infos = filtered_infos(tracks[i], table, t_s, noise)
+                tracks[i], infos = filtered_infos(tracks[i], table, t_s, noise, filtered_cache)
             for sender in sorted(table) if noise is None else ():
                 msg = table[sender]
                 info = converted.get(id(msg))
