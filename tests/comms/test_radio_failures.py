@@ -31,10 +31,10 @@ def _runs(states: np.ndarray, value: bool, dt_s: float) -> np.ndarray:
 def test_burst_and_gap_lengths_are_exponential_with_the_configured_means() -> None:
     burst = BurstLoss(burst_mean_s=1.0, gap_mean_s=3.0)
     dt_s = 0.01
-    t = np.arange(0.0, 4000.0, dt_s)
+    t = np.arange(0.0, 3000.0, dt_s)
     states = burst.bad(7, 1, 2, t)
     bursts, gaps = _runs(states, True, dt_s), _runs(states, False, dt_s)
-    assert bursts.size > 800
+    assert bursts.size > 600
     assert bursts.mean() == pytest.approx(1.0, rel=0.08)
     assert gaps.mean() == pytest.approx(3.0, rel=0.08)
     assert states.mean() == pytest.approx(0.25, abs=0.02)
@@ -43,7 +43,7 @@ def test_burst_and_gap_lengths_are_exponential_with_the_configured_means() -> No
 
 def test_burst_state_is_a_pure_function_of_the_link_and_time() -> None:
     burst = BurstLoss(0.5, 0.5)
-    t = np.random.default_rng(0).uniform(0, 100, 500)
+    t = np.random.default_rng(0).uniform(0, 100, 200)
     whole = burst.bad(3, 4, 9, t)
     one_by_one = np.array([burst.bad(3, 4, 9, x) for x in t[::-1]])[::-1]
     np.testing.assert_array_equal(whole, one_by_one)
@@ -61,11 +61,11 @@ def test_loss_rises_with_distance_toward_the_range_limit() -> None:
     assert measured == pytest.approx([0.0, 0.15, 0.6], abs=0.015)
     positions = np.array([[0.0, 0.0], [30.0, 0.0], [95.0, 0.0]])
     lost = np.zeros(3)
-    for k in range(3000):
+    for k in range(1200):
         tx = radio.broadcast(positions, 0.05 * k, seq=k, senders=[0])
         lost[tx.receiver_index[~tx.delivered]] += 1
-    assert lost[2] / 3000 == pytest.approx(0.6 * 0.95 ** 2, abs=0.03)
-    assert lost[1] / 3000 == pytest.approx(0.6 * 0.3 ** 2, abs=0.02)
+    assert lost[2] / 1200 == pytest.approx(0.6 * 0.95 ** 2, abs=0.04)
+    assert lost[1] / 1200 == pytest.approx(0.6 * 0.3 ** 2, abs=0.025)
 
 
 def test_average_loss_over_bursts_matches_the_stationary_law() -> None:
