@@ -78,6 +78,9 @@ class ControlParams:
     """A relayed state older than this (by its origin's time stamp) is not relayed further."""
     relay_budget_bytes: int = 3000
     """At most this many encoded bytes of relayed states ride on one state message."""
+    relay_every: int = 1
+    """Relayed states ride on one state message in this many: 4 cuts the relay's traffic and cost fourfold (on
+    ``circle`` at 15 m range the polygon IoU went from 0.997 to 0.989 at 30 s; docs/COMMS.md)."""
     follower_cover_fraction: float = 0.9
     """A layer of footprints covers this fraction of a footprint side radially (for the layer-release test)."""
     spacing_gain_per_s: float = 0.8
@@ -112,7 +115,7 @@ class ControlParams:
                      "meet_distance_m", "min_encircle_travel_m", "spacing_gain_per_s", "safety_radius_m",
                      "safety_gain_mps", "safety_min_distance_m", "safety_closing_rate_per_s", "safety_braking_mps2",
                      "safety_reaction_s", "neighbour_timeout_s", "k_altitude_per_s", "neighbour_accel_psd_m2ps3",
-                     "relay_max_hops", "relay_max_age_s", "relay_budget_bytes"):
+                     "relay_max_hops", "relay_max_age_s", "relay_budget_bytes", "relay_every"):
             if not getattr(self, name) >= 0.0:
                 raise ControlParamsError(f"control.{name}: must be >= 0, got {getattr(self, name)}")
         for name in ("neighbour_position_std_m", "neighbour_velocity_std_mps", "neighbour_position_bound_m"):

@@ -185,7 +185,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             perception=inputs.perception[i], edge_points_en_m=memories[i].edge_points_en_m,
             leaving=action is Action.EXIT, low_battery=tel.battery_fraction < plan.limits.low_battery_fraction,
         )
-        if params.relay_max_hops > 0:
+        if params.relay_max_hops > 0 and seq[i] % max(1, params.relay_every) == 0:
             copies = relay_copies(heard[i], vid, t_s, seq[i], params.relay_max_hops, params.relay_max_age_s,
                                   params.relay_budget_bytes)
             message = msgspec.structs.replace(message, relayed=copies) if copies else message

@@ -10,6 +10,7 @@ counts one more hop. Three limits keep the traffic bounded:
 * a hop limit: a copy with ``hops == max_hops`` is not passed on;
 * ageing: a state older than ``max_age_s`` by its origin's time stamp is not passed on (stale knowledge dies out
   after a few relays even on a lossless radio, since each relay adds at least one control period);
+* a rate: copies ride on one message in ``relay_every`` (the onboard core decides, by the message's ``seq``);
 * a byte budget per message: copies are added until the next would pass ``budget_bytes`` (encoded size), in an
   order that rotates with the relayer's own ``seq`` (a hash of origin id and seq), so a budget smaller than the
   table still passes every origin on in turn, the far ones (already relayed) as often as the direct ones.
