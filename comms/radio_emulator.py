@@ -122,7 +122,8 @@ class RadioRelay:
         """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``."""
         self.counters.messages_in += 1
         state = decode(NeighbourState, payload, self.stats)
-        if state is None or state.sender_id != key_vehicle_id or state.sender_id == GROUND_NODE_ID:
+        ground_id_taken = self.ground_node_enu_m is not None and state is not None and state.sender_id == GROUND_NODE_ID
+        if state is None or state.sender_id != key_vehicle_id or ground_id_taken:
             self.counters.rejected += 1
             return None
         sid = state.sender_id
