@@ -116,21 +116,16 @@ def create_app(settings: AppSettings, model: DashboardModel, broadcast: FrameBro
             return _error(400, "start: expected a polygon index, a non-negative integer")
         return Response(msgspec.json.encode(model.history(int(raw))), media_type="application/json")
 
-    async def geojson(_: Request) -> Response:
-        feature = model.current_polygon
-        if feature is None:
-            return _error(404, "no caged polygon yet")
-        name = f"floodwatch-{settings.mission}-polygon.geojson"
-        return Response(polygon_geojson(feature), media_type="application/geo+json",
-                        headers={"Content-Disposition": f'attachment; filename="{name}"'})
+    def download(suffix: str, media_type: str, render: Any) -> Any:
+        async def handler(_: Request) -> Response:
+            feature = model.current_polygon
+            if feature is None:
+                return _error(404, "no caged polygon yet")
+            name = f"floodwatch-{settings.mission}-polygon.{suffix}"
+            return Response(render(feature), media_type=media_type,
+                            headers={"Content-Disposition": f'attachment; filename="{name}"'})
 
-    async def kml(_: Request) -> Response:
-        feature = model.current_polygon
-        if feature is None:
-            return _error(404, "no caged polygon yet")
-        name = f"floodwatch-{settings.mission}-polygon.kml"
-        return Response(polygon_kml(feature), media_type="application/vnd.google-earth.kml+xml",
-                        headers={"Content-Disposition": f'attachment; filename="{name}"'})
+        return handler
 
     async def tile(request: Request) -> Response:
         if settings.tiles is None:
@@ -171,8 +166,8 @@ def create_app(settings: AppSettings, model: DashboardModel, broadcast: FrameBro
         Route("/api/state", state),
         Route("/api/stream", stream),
         Route("/api/history", history),
-        Route("/api/polygon.geojson", geojson),
-        Route("/api/polygon.kml", kml),
+        Route("/api/polygon.geojson", download("geojson", "application/geo+json", polygon_geojson)),
+        Route("/api/polygon.kml", download("kml", "application/vnd.google-earth.kml+xml", polygon_kml)),
         Route("/api/command/{name}", command, methods=["POST"]),
         Route("/tiles/{z}/{x}/{y}", tile),
         Mount("/static", StaticFiles(directory=STATIC_DIR), name="static"),
