@@ -49,9 +49,9 @@ class DashboardFeed:
         now_wall_s = time.time()
         handlers: dict[str, tuple[type, Callable[[Any], None]]] = {
             self.keys.vehicles: (VehicleStatusReport, lambda m: model.on_vehicles(m, now_wall_s)),
-            self.keys.events: (MissionEvent, model.on_event),
+            self.keys.events: (MissionEvent, lambda m: model.on_event(m, now_wall_s)),
             self.keys.polygon: (FloodPolygon, lambda m: model.on_polygon(m, now_wall_s)),
-            self.keys.flood_edge: (FloodEdgeTruth, model.on_flood_edge),
+            self.keys.flood_edge: (FloodEdgeTruth, lambda m: model.on_flood_edge(m, now_wall_s)),
         }
         applied = 0
         for item in self.buffer.drain():

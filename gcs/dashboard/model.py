@@ -9,6 +9,7 @@ time slider and the area chart) is fetched separately, by index, so the frame st
 from __future__ import annotations
 
 import collections
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -17,6 +18,9 @@ import msgspec
 from comms.gcs_status import ALERT_KINDS, FloodEdgeTruth, MissionEvent, VehicleStatusReport
 from comms.messages import FloodPolygon
 
+RESEND_S = 1.0
+"""A frame carries the polygon, the true edge and the events only within this long [s] of their last change (and in
+full frames): they change about once a second, the frames come ten or more times a second."""
 MAX_EVENTS = 200
 MAX_POLYGONS = 20_000
 """About five and a half hours of polygons at the default 1 Hz; the oldest go first beyond it."""
@@ -42,6 +46,7 @@ class DashboardModel:
         self.polygons_dropped = 0
         self.events: collections.deque[MissionEvent] = collections.deque(maxlen=MAX_EVENTS)
         self.alerts: dict[tuple[str, int | None], MissionEvent] = {}
+        self._changed_wall_s: dict[str, float] = {}
 
     # ---- inputs
     def on_vehicles(self, report: VehicleStatusReport, now_wall_s: float) -> None:
@@ -55,14 +60,17 @@ class DashboardModel:
         if len(self.polygons) == self.polygons.maxlen:
             self.polygons_dropped += 1
         self.polygons.append(PolygonEntry(feature, now_wall_s))
+        self._changed_wall_s["polygon"] = now_wall_s
 
-    def on_flood_edge(self, edge: FloodEdgeTruth) -> None:
+    def on_flood_edge(self, edge: FloodEdgeTruth, now_wall_s: float) -> None:
         self.flood_edge = edge
+        self._changed_wall_s["flood_edge"] = now_wall_s
 
-    def on_event(self, event: MissionEvent) -> None:
+    def on_event(self, event: MissionEvent, now_wall_s: float) -> None:
         if any(e.seq == event.seq and e.wall_s == event.wall_s for e in self.events):
             return
         self.events.append(event)
+        self._changed_wall_s["events"] = now_wall_s
         if event.kind in ALERT_KINDS:
             key = (event.kind.value, event.vehicle_id)
             if event.active:
@@ -75,10 +83,11 @@ class DashboardModel:
     def current_polygon(self) -> FloodPolygon | None:
         return self.polygons[-1].feature if self.polygons else None
 
-    def frame(self, now_wall_s: float) -> dict[str, Any]:
+    def frame(self, now_wall_s: float, full: bool = True) -> dict[str, Any]:
         """The page's state now. Ages [s] are at ``now_wall_s``: a report's values aged by the time since it was
         published (``wall_s``, the publisher's clock) — equal clocks on one machine, and on two machines the
-        receive time bounds it from below."""
+        receive time bounds it from below. A frame that is not ``full`` leaves out the polygon, the true edge and
+        the events (with the alerts) unless they changed within :data:`RESEND_S`; the page keeps what it has."""
         report = self.vehicles
         vehicles: list[dict[str, Any]] = []
         report_age_s = None
@@ -91,7 +100,7 @@ class DashboardModel:
                 vehicles.append(row)
         polygon = self.current_polygon
         newest = self.polygons[-1] if self.polygons else None
-        return {
+        frame: dict[str, Any] = {
             "mission": self.mission,
             "now_wall_s": now_wall_s,
             "phase": report.phase if report else "waiting",
@@ -102,13 +111,19 @@ class DashboardModel:
             "operator_order": report.operator_order if report else "",
             "home": [report.home_lat_deg, report.home_lon_deg] if report and report.home_lat_deg is not None else None,
             "vehicles": vehicles,
-            "polygon": msgspec.to_builtins(polygon) if polygon else None,
             "polygon_age_s": now_wall_s - newest.received_wall_s if newest else None,
             "polygon_count": len(self.polygons),
-            "flood_edge": msgspec.to_builtins(self.flood_edge) if self.flood_edge else None,
-            "events": [msgspec.to_builtins(e) for e in list(self.events)[-30:]],
-            "alerts": [msgspec.to_builtins(e) for e in self.alerts.values()],
         }
+        fresh = [part for part in ("polygon", "flood_edge", "events")
+                 if full or now_wall_s - self._changed_wall_s.get(part, -math.inf) <= RESEND_S]
+        if "polygon" in fresh:
+            frame["polygon"] = msgspec.to_builtins(polygon) if polygon else None
+        if "flood_edge" in fresh:
+            frame["flood_edge"] = msgspec.to_builtins(self.flood_edge) if self.flood_edge else None
+        if "events" in fresh:
+            frame["events"] = [msgspec.to_builtins(e) for e in list(self.events)[-30:]]
+            frame["alerts"] = [msgspec.to_builtins(e) for e in self.alerts.values()]
+        return frame
 
     def history(self, start: int) -> dict[str, Any]:
         """Polygons from index ``start`` on (index into what is kept): rings for the slider, area and growth for

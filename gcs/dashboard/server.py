@@ -25,6 +25,8 @@ from gcs.dashboard.tiles import TileArchive
 
 FRAME_PERIOD_S = 0.1
 MIN_FRAME_GAP_S = 0.05
+FULL_FRAME_PERIOD_S = 2.0
+"""Every so often a frame carries everything, so a page that skipped frames catches up (see ``model.RESEND_S``)."""
 
 
 @dataclass(frozen=True)
@@ -39,13 +41,16 @@ class ServerOptions:
 
 async def _pump(feed: DashboardFeed, model: DashboardModel, broadcast: FrameBroadcast) -> None:
     loop = asyncio.get_running_loop()
-    last_s = loop.time()
+    last_s = last_full_s = loop.time()
     while True:
         await feed.buffer.wait_async(max(0.0, last_s + FRAME_PERIOD_S - loop.time()))
         feed.apply(model)
-        if broadcast.clients:
-            await broadcast.publish(b"data: " + msgspec.json.encode(model.frame(time.time())) + b"\n\n")
         last_s = loop.time()
+        full = last_s - last_full_s >= FULL_FRAME_PERIOD_S
+        if full:
+            last_full_s = last_s
+        if broadcast.clients:
+            await broadcast.publish(b"data: " + msgspec.json.encode(model.frame(time.time(), full)) + b"\n\n")
         await asyncio.sleep(MIN_FRAME_GAP_S)
 
 

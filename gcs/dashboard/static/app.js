@@ -23,6 +23,8 @@
   const markers = new Map();
   let centred = false, lastReportWall = null, config = { commands: false, tiles: null };
   let history = [], sliderLive = true;
+  // a frame may leave out the polygon, the true edge and the events when they did not change: keep the last ones
+  const kept = { polygon: null, flood_edge: null, events: [], alerts: [] };
 
   const $ = (id) => document.getElementById(id);
   const lonlatToLatLng = (ring) => ring.map((p) => [p[1], p[0]]);
@@ -98,7 +100,7 @@
   }
 
   function drawPolygon(frame) {
-    const p = frame.polygon;
+    const p = kept.polygon;
     const ring = p ? p.geometry.coordinates[0] : [];
     layers.polygon.setLatLngs(lonlatToLatLng(ring.slice(0, -1)));
     layers.polygon.setStyle({ opacity: sliderLive ? 1 : 0.3, fillOpacity: sliderLive ? 0.25 : 0.05 });
@@ -110,20 +112,20 @@
         `growth ${fmt(pr.growth_rate_m2_per_s, 1)} m²/s · ${debug.polygonVertices} vertices · ` +
         `${fmt(frame.polygon_age_s, 1)} s old</span>`;
     }
-    const edge = frame.flood_edge;
+    const edge = kept.flood_edge;
     layers.truth.setLatLngs(edge && $("show-truth").checked ? lonlatToLatLng(edge.ring_lonlat) : []);
   }
 
-  function drawAlerts(frame) {
+  function drawAlerts() {
     const list = $("alerts");
-    debug.alerts = frame.alerts;
-    if (!frame.alerts.length) { list.innerHTML = '<li class="none">none</li>'; return; }
-    list.innerHTML = frame.alerts.map((a) => `<li class="fw-alert" data-kind="${a.kind}" data-vehicle="${a.vehicle_id ?? ""}">` +
+    debug.alerts = kept.alerts;
+    if (!kept.alerts.length) { list.innerHTML = '<li class="none">none</li>'; return; }
+    list.innerHTML = kept.alerts.map((a) => `<li class="fw-alert" data-kind="${a.kind}" data-vehicle="${a.vehicle_id ?? ""}">` +
       `t=${fmt(a.t_s, 1)} s · ${escapeHtml(a.text)}</li>`).join("");
   }
 
-  function drawEvents(frame) {
-    $("events").innerHTML = frame.events.slice().reverse().map((e) => {
+  function drawEvents() {
+    $("events").innerHTML = kept.events.slice().reverse().map((e) => {
       const cls = e.kind === "info" ? "" : (e.active === false ? "cleared" : "alert");
       return `<li class="${cls}" data-kind="${e.kind}">t=${fmt(e.t_s, 1)} s ${escapeHtml(e.text)}</li>`;
     }).join("");
@@ -153,10 +155,12 @@
       if (debug.latencies.length > 2000) debug.latencies.shift();
     }
     if (frame.home) grid.origin = L.latLng(frame.home[0], frame.home[1]);
-    drawVehicles(frame); drawPolygon(frame); drawAlerts(frame); drawEvents(frame); drawStatus(frame);
+    for (const part of Object.keys(kept)) { if (part in frame) kept[part] = frame[part]; }
+    drawVehicles(frame); drawPolygon(frame); drawStatus(frame);
+    if ("events" in frame) { drawAlerts(); drawEvents(); }
     if (!centred && (frame.home || frame.vehicles.some((v) => v.lat_deg !== null && v.lat_deg !== undefined))) {
       const pts = frame.vehicles.filter((v) => v.lat_deg !== null && v.lat_deg !== undefined).map((v) => [v.lat_deg, v.lon_deg]);
-      if (frame.flood_edge) pts.push(...lonlatToLatLng(frame.flood_edge.ring_lonlat));
+      if (kept.flood_edge) pts.push(...lonlatToLatLng(kept.flood_edge.ring_lonlat));
       if (pts.length > 1) { map.fitBounds(L.latLngBounds(pts).pad(0.6)); centred = true; }
       else if (frame.home) map.setView(frame.home, 18);
       grid.redraw();

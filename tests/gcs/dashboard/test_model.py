@@ -32,14 +32,14 @@ def test_ages_grow_with_the_time_since_the_report_was_published() -> None:
 
 def test_alerts_stand_until_cleared_and_events_are_kept_once() -> None:
     model = DashboardModel("m")
-    model.on_event(_event(1, EventKind.AGENT_LOST, 5))
-    model.on_event(_event(1, EventKind.AGENT_LOST, 5))
-    model.on_event(_event(2, EventKind.INFO, None))
-    model.on_event(_event(3, EventKind.VEHICLE_LOST, 6))
+    model.on_event(_event(1, EventKind.AGENT_LOST, 5), 150.0)
+    model.on_event(_event(1, EventKind.AGENT_LOST, 5), 150.0)
+    model.on_event(_event(2, EventKind.INFO, None), 150.0)
+    model.on_event(_event(3, EventKind.VEHICLE_LOST, 6), 150.0)
     frame = model.frame(200.0)
     assert len(frame["events"]) == 3
     assert {(a["kind"], a["vehicle_id"]) for a in frame["alerts"]} == {("agent_lost", 5), ("vehicle_lost", 6)}
-    model.on_event(_event(4, EventKind.VEHICLE_LOST, 6, active=False))
+    model.on_event(_event(4, EventKind.VEHICLE_LOST, 6, active=False), 150.0)
     assert [(a["kind"], a["vehicle_id"]) for a in model.frame(200.0)["alerts"]] == [("agent_lost", 5)]
 
 
@@ -53,3 +53,13 @@ def test_history_serves_polygons_from_an_index_and_a_restarted_flood_clock_start
     assert history["items"][0]["area_m2"] == 130.0 and len(history["items"][0]["ring"]) == 5
     model.on_polygon(flood_polygon_from_enu([(0, 0), (5, 0), (5, 5)], HOME, mission="m", t_s=0.0), now_wall_s=200.0)
     assert model.history(0)["count"] == 1
+
+
+def test_a_partial_frame_leaves_out_what_did_not_change_lately() -> None:
+    model = DashboardModel("m")
+    model.on_polygon(flood_polygon_from_enu([(0, 0), (5, 0), (5, 5)], HOME, mission="m", t_s=1.0), now_wall_s=100.0)
+    model.on_event(_event(1, EventKind.INFO, None), now_wall_s=100.0)
+    assert {"polygon", "events", "alerts"} <= model.frame(100.5, full=False).keys()
+    late = model.frame(102.0, full=False)
+    assert not {"polygon", "events", "alerts", "flood_edge"} & late.keys() and late["polygon_count"] == 1
+    assert model.frame(102.0)["polygon"]["properties"]["t_s"] == 1.0
