@@ -210,7 +210,8 @@ def start_dashboard_process(station: GroundStation) -> str | None:
         args += ["--tiles", str(options.dashboard_tiles)]
     station.supervisor.start("dashboard", args, env={TOKEN_ENV: options.dashboard_token or ""})
     url = dashboard_url(host, port)
-    station.events(f"live map at {url} ({'operator commands need the token' if options.dashboard_token else 'read-only'})")
+    access = "operator commands need the token" if options.dashboard_token else "read-only"
+    station.events(f"live map at {url} ({access})")
     if not is_loopback(host):
         warning = (f"the live map listens on {host}, reachable from other machines"
                    f"{'' if options.dashboard_token else ' (read-only: no --dashboard-token)'}")

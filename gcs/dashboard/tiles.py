@@ -59,14 +59,16 @@ class TileArchive:
         if fmt not in _MEDIA_TYPES:
             raise TilesError(f"{self.path}: tiles of format {fmt!r}; only raster png, jpg or webp can be shown")
         zooms = self._db.execute("SELECT MIN(zoom_level), MAX(zoom_level) FROM tiles").fetchone()
-        return TilesInfo(_MEDIA_TYPES[fmt], int(meta.get("minzoom", zooms[0] or 0)), int(meta.get("maxzoom", zooms[1] or 0)))
+        return TilesInfo(_MEDIA_TYPES[fmt], int(meta.get("minzoom", zooms[0] or 0)),
+                         int(meta.get("maxzoom", zooms[1] or 0)))
 
     def _pmtiles_info(self) -> TilesInfo:
         assert self._pm is not None
         header = self._pm.header()
         kind = _PMTILES_TYPES.get(header["tile_type"])
         if kind is None:
-            raise TilesError(f"{self.path}: {header['tile_type'].name} tiles; only raster png, jpg or webp can be shown")
+            raise TilesError(f"{self.path}: {header['tile_type'].name} tiles; "
+                             "only raster png, jpg or webp can be shown")
         if header["tile_compression"] not in (Compression.NONE, Compression.UNKNOWN):
             raise TilesError(f"{self.path}: raster tiles stored with {header['tile_compression'].name} compression")
         return TilesInfo(_MEDIA_TYPES[kind], int(header["min_zoom"]), int(header["max_zoom"]))
