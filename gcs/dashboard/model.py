@@ -18,9 +18,10 @@ import msgspec
 from comms.gcs_status import ALERT_KINDS, FloodEdgeTruth, MissionEvent, VehicleStatusReport
 from comms.messages import FloodPolygon
 
-RESEND_S = 1.0
+RESEND_S = 0.3
 """A frame carries the polygon, the true edge and the events only within this long [s] of their last change (and in
-full frames): they change about once a second, the frames come ten or more times a second."""
+full frames): they change about once a second, the frames come ten or more times a second, so a change still
+reaches a page that skipped a frame or two."""
 MAX_EVENTS = 200
 MAX_POLYGONS = 20_000
 """About five and a half hours of polygons at the default 1 Hz; the oldest go first beyond it."""
