@@ -87,7 +87,7 @@ async def cpu_with_clients(url: str, pids: dict[str, int], clients: int, window_
     return result
 
 
-def browser_figures(url: str, loads: int, latency_window_s: float) -> dict:
+def browser_figures(url: str, loads: int, latency_window_s: float, screenshot: Path | None) -> dict:
     import tempfile
 
     from test_browser_mission import start_chromium  # the tests' chromium set-up (headless, offline)
@@ -111,6 +111,8 @@ def browser_figures(url: str, loads: int, latency_window_s: float) -> dict:
         driver.execute_script("window.fwDebug.latencies = []")
         time.sleep(latency_window_s)
         latencies = sorted(1000 * x for x in driver.execute_script("return window.fwDebug.latencies"))
+        if screenshot is not None:
+            driver.save_screenshot(str(screenshot))
     finally:
         driver.quit()
     return {
@@ -127,6 +129,7 @@ def main() -> int:
     parser.add_argument("--window-s", type=float, default=15.0)
     parser.add_argument("--loads", type=int, default=3)
     parser.add_argument("--out", type=Path, default=Path("/tmp/fw-bench-dashboard"))
+    parser.add_argument("--screenshot", type=Path, default=None, help="save the page as PNG after the latency window")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, FLOODWATCH_ZENOH_ENDPOINT=f"tcp/127.0.0.1:{BASE_PORT + 60}", PYTHONUNBUFFERED="1")
@@ -154,7 +157,7 @@ def main() -> int:
         load_before = os.getloadavg()
         idle = asyncio.run(cpu_with_clients(url, watched, 0, args.window_s))
         loaded = asyncio.run(cpu_with_clients(url, watched, args.clients, args.window_s))
-        browser = browser_figures(url, args.loads, latency_window_s=10.0)
+        browser = browser_figures(url, args.loads, latency_window_s=10.0, screenshot=args.screenshot)
         result = {
             "clients": args.clients, "window_s": args.window_s, "idle": idle, "with_clients": loaded,
             "dashboard_cpu_fraction_per_client": (loaded["dashboard_cpu_fraction"] - idle["dashboard_cpu_fraction"])
