@@ -35,6 +35,21 @@ _DRY_GRASS = np.array([70.0, 150.0, 150.0])
 _SOIL = np.array([70.0, 100.0, 130.0])
 _WATER_DEEP = np.array([120.0, 95.0, 70.0])
 _WATER_SKY = np.array([185.0, 165.0, 145.0])
+WATER_TURBID_BGR = np.array([138.0, 124.0, 100.0], np.float32)
+"""Shallow water over soil: silt-laden, grey-brown, only a little bluer than grey (the edge is a soft step)."""
+TURBID_DEPTH_M = 0.25
+"""Water shallower than this shows the turbid colour, fully at the shoreline and fading out at this depth."""
+DEEP_DEPTH_M = 1.2
+"""Water darkens with depth up to this depth, where it has lost ``DEEP_DARKENING`` of its brightness."""
+DEEP_DARKENING = 0.3
+
+
+def water_shading(depth_m: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """(turbid weight, brightness) per pixel of water at ``depth_m``: shallow water near the shore is the turbid
+    colour, deep water is darker (less light comes back from the bottom)."""
+    turbid = 1.0 - _smoothstep(depth_m / TURBID_DEPTH_M)
+    brightness = 1.0 - DEEP_DARKENING * _smoothstep((depth_m - TURBID_DEPTH_M) / (DEEP_DEPTH_M - TURBID_DEPTH_M))
+    return turbid.astype(np.float32), brightness.astype(np.float32)
 
 
 @dataclass(frozen=True)
@@ -58,7 +73,7 @@ class SensorEffects:
     """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise [DN], rounded."""
 
 
-def _smoothstep(x: NDArray[np.float64]) -> NDArray[np.float64]:
+def _smoothstep(x: NDArray[np.floating]) -> NDArray[np.floating]:
     x = np.clip(x, 0.0, 1.0)
     return x * x * (3.0 - 2.0 * x)
 

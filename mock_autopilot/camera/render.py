@@ -1,7 +1,9 @@
 """Render what a drone's downward camera sees of the flood, with the ground-truth water mask (SPEC §3).
 
-Each pixel centre is projected to the ground (nadir pinhole over flat ground, see ``camera/model.py``), the flood
-model says whether it is water, and the pixel takes the world-anchored land or water texture. Land within a
+Each pixel centre is projected to the ground (nadir pinhole over locally flat ground at the height above ground a
+rangefinder would read, see ``camera/model.py`` and ``world/ground.py``), the flood model says whether it is water,
+and the pixel takes the world-anchored land or water texture; a flood that knows its depth (the hydro model) shades
+its water by depth: turbid at the shore, darker where deep. Land within a
 seeded, varying distance of the water is darkened into a wet shoreline band; then lighting, a slight optical blur
 and sensor noise are applied. Everything is vectorised and the textures are cached per seed, so a 128x128 frame
 costs a fraction of a millisecond (see ``bench/camera_perception.py``).
@@ -22,12 +24,15 @@ from mock_autopilot.camera.appearance import (
     NOISE_FRAMES,
     TILE_PX,
     TILE_RESOLUTION_M,
+    WATER_TURBID_BGR,
     WET_BAND_UNIT_M,
     ground_textures,
     sensor_effects,
+    water_shading,
 )
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.flood_model import DepthField, FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 
 MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
@@ -101,13 +106,14 @@ def render_frame(
     pos = np.asarray(position_enu_m, dtype=float).reshape(-1)
     if pos.size < 3 or not (np.all(np.isfinite(pos[:3])) and math.isfinite(yaw_ned_rad) and math.isfinite(t_s)):
         return _blank(camera)
-    altitude_m = max(float(pos[2]), MIN_ALTITUDE_M)
+    altitude_m = max(height_above_ground_m(flood, pos[:3]), MIN_ALTITUDE_M)
     gsd = camera.ground_sample_m(altitude_m)
     m = MARGIN_PX
     h, w = camera.height_px, camera.width_px
 
     points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m)
-    water_padded = np.asarray(flood.is_water(points, t_s), dtype=bool)
+    depth = flood.depth_m(points, t_s) if isinstance(flood, DepthField) else None
+    water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)
     water = water_padded[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
@@ -124,7 +130,10 @@ def render_frame(
         wetness = cv2.max(wetness, 0.0)
         # Wet soil is darker, and keeps more red than blue: a per-channel darkening of the land near the water.
         wet_factor = cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
-        colour = cv2.copyTo(_sample_tile(textures.water_bgr, to_tile, w, h), water.view(np.uint8), colour)
+        water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
+        if depth is not None:
+            water_colour = _shade_by_depth(water_colour, depth[m : m + h, m : m + w])
+        colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
 
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
     gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
@@ -132,6 +141,16 @@ def render_frame(
     image = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
 
+
+
+def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32]) -> NDArray[np.uint8]:
+    """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
+    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``)."""
+    turbid, brightness = water_shading(depth_m)
+    turbid3 = cv2.merge([turbid, turbid, turbid])
+    clear = cv2.multiply(water_bgr.astype(np.float32), cv2.merge([brightness, brightness, brightness]))
+    mixed = clear + turbid3 * (WATER_TURBID_BGR - clear)
+    return mixed.astype(np.uint8)
 
 
 def _texture_transform(

@@ -35,6 +35,17 @@ class FloodModel(Protocol):
         ...
 
 
+@runtime_checkable
+class DepthField(Protocol):
+    """A flood that knows how deep its water is (the hydro model); water is where the depth exceeds ``wet_depth_m``."""
+
+    wet_depth_m: float
+
+    def depth_m(self, points_en_m: ArrayLike, t_s: float) -> NDArray[np.float32]:
+        """Water depth [m] at each (..., 2) point at time ``t_s``."""
+        ...
+
+
 @dataclass(frozen=True)
 class ExpandingCircle:
     """The paper's flood (§IV): a circle whose radius grows linearly, 12 m -> 16 m over 60 s in ``circle``.

@@ -1,0 +1,37 @@
+"""The ground under a drone: height above ground for the rangefinder and the camera (flat unless the flood has relief).
+
+Drones hold their altitude above home (the mission ENU origin), so over relief the ground is nearer or farther than
+that altitude says. A flood model with relief answers ``ground_height_m(points)``; heights are taken relative to the
+ground at the origin, which is where ``up = 0`` is. Models without it are flat, and height above ground is ``up``.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+_ORIGIN = np.zeros((1, 2))
+
+
+@runtime_checkable
+class GroundRelief(Protocol):
+    """A flood model over terrain: the ground height [m] at each (..., 2) east/north point."""
+
+    def ground_height_m(self, points_en_m: ArrayLike) -> NDArray[np.float64]:
+        ...
+
+
+def relative_ground_m(flood: object, points_en_m: ArrayLike) -> NDArray[np.float64]:
+    """Ground height above the origin's ground [m] at each (..., 2) point; zeros for a flat world."""
+    p = np.asarray(points_en_m, dtype=float)
+    if not isinstance(flood, GroundRelief):
+        return np.zeros(p.shape[:-1])
+    return np.asarray(flood.ground_height_m(p), float) - float(flood.ground_height_m(_ORIGIN)[0])
+
+
+def height_above_ground_m(flood: object, position_enu_m: ArrayLike) -> float:
+    """What a downward rangefinder reads [m]: the drone's ``up`` minus the ground below it."""
+    pos = np.asarray(position_enu_m, dtype=float).reshape(-1)
+    return float(pos[2] - relative_ground_m(flood, pos[None, :2])[0])
