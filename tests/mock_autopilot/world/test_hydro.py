@@ -177,3 +177,17 @@ def test_a_dem_that_does_not_load_exits_2_naming_the_field(tmp_path: Path) -> No
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 2
     assert done.stderr.count("\n") == 1 and "flood.dem_path" in done.stderr
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["breach", "river", "pluvial"])
+def test_the_shipped_hydro_scenarios_build_grow_and_are_cageable(name: str) -> None:
+    """Each shipped scenario's flood: water at the start, growing, the launch pads outside it."""
+    from gcs.scenario import load_scenario
+
+    scenario = load_scenario(name)
+    flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+    assert isinstance(flood, HydroFlood)
+    assert 0.0 < flood.area_m2(0.0) < flood.area_m2(scenario.duration_s) <= flood.wet_area_m2(scenario.duration_s)
+    pads = np.array([v.pad_enu_m[:2] for v in scenario.vehicles])
+    assert not flood.is_water(pads, 0.0).any()
