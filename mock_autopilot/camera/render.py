@@ -38,6 +38,8 @@ MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
 MARGIN_PX = 8
 """Extra ring of pixels evaluated around the image so the wet band near the image border sees off-image water."""
+DEPTH_LUT_STEP_M = 0.005
+"""Depth resolution of the water shading table [m] (256 steps: to 1.275 m, deeper water shades as that)."""
 _WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
 """How much fully wet soil loses of each colour channel (B, G, R)."""
 
@@ -52,6 +54,13 @@ class RenderedFrame:
     """(H, W) ground truth: True where the pixel centre is water."""
     ground_sample_m: float = 0.0
     """Ground distance of one pixel [m/px]; 0 for a blank frame."""
+
+
+@lru_cache(maxsize=64)
+def _knows_depth(model_type: type) -> bool:
+    """Whether a flood model class is a :class:`DepthField` (checked once per class: a Protocol check is slow, and
+    one with a data member cannot be made on a class)."""
+    return all(callable(getattr(model_type, name, None)) for name in ("depth_m", "depth_on_affine_grid_m"))
 
 
 @lru_cache(maxsize=16)
@@ -112,8 +121,8 @@ def render_frame(
     h, w = camera.height_px, camera.width_px
 
     points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m)
-    depth = flood.depth_m(points, t_s) if isinstance(flood, DepthField) else None
-    water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)
+    depth = flood.depth_on_affine_grid_m(points, t_s) if _knows_depth(type(flood)) else None  # type: ignore[attr-defined]
+    water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)  # type: ignore[attr-defined]
     water = water_padded[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
@@ -143,14 +152,25 @@ def render_frame(
 
 
 
+@lru_cache(maxsize=1)
+def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture and the turbid colour added (BGR), so
+    shading a frame is two table lookups: ``water · gain + offset``."""
+    depth = np.arange(256, dtype=np.float32) * DEPTH_LUT_STEP_M
+    turbid, brightness = water_shading(depth)
+    gain = (brightness * (1.0 - turbid))[:, None].repeat(3, axis=1)
+    offset = turbid[:, None] * WATER_TURBID_BGR[None, :]
+    return gain.reshape(1, 256, 3).astype(np.float32), offset.reshape(1, 256, 3).astype(np.float32)
+
+
 def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32]) -> NDArray[np.uint8]:
     """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
-    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``)."""
-    turbid, brightness = water_shading(depth_m)
-    turbid3 = cv2.merge([turbid, turbid, turbid])
-    clear = cv2.multiply(water_bgr.astype(np.float32), cv2.merge([brightness, brightness, brightness]))
-    mixed = clear + turbid3 * (WATER_TURBID_BGR - clear)
-    return mixed.astype(np.uint8)
+    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated)."""
+    gain, offset = _depth_luts()
+    step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
+    step3 = cv2.merge([step, step, step])
+    shaded = cv2.multiply(water_bgr, cv2.LUT(step3, gain), dtype=cv2.CV_32F)
+    return cv2.add(shaded, cv2.LUT(step3, offset), dtype=cv2.CV_8U)
 
 
 def _texture_transform(

@@ -45,6 +45,10 @@ class DepthField(Protocol):
         """Water depth [m] at each (..., 2) point at time ``t_s``."""
         ...
 
+    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float) -> NDArray[np.float32]:
+        """``depth_m`` for an (H, W, 2) grid of points affine in its indices (faster; the camera's footprint)."""
+        ...
+
 
 @dataclass(frozen=True)
 class ExpandingCircle:

@@ -71,13 +71,39 @@ class HydroFlood:
         col, row = self.grid.grid_coordinates(points_en_m)
         return sample_grid(self.depth_raster_m(t_s), col, row, cv2.INTER_LINEAR, 0.0)
 
+    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float) -> NDArray[np.float32]:
+        """``depth_m`` for an (H, W, 2) grid of points that is affine in its indices (a nadir camera's footprint):
+        one ``warpAffine`` of the depth raster instead of a per-point lookup."""
+        h, w = points_en_m.shape[:2]
+        origin = points_en_m[0, 0]
+        along_col = points_en_m[0, 1] - origin if w > 1 else np.zeros(2)
+        along_row = points_en_m[1, 0] - origin if h > 1 else np.zeros(2)
+        cell = self.grid.cell_m
+        rows, cols = self.grid.shape
+        c0, r0 = self.grid.grid_coordinates(origin)
+        to_raster = np.array([[along_col[0] / cell, along_row[0] / cell, float(c0)],
+                              [-along_col[1] / cell, -along_row[1] / cell, float(r0)]])
+        return cv2.warpAffine(self.depth_raster_m(t_s), to_raster, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                              borderMode=cv2.BORDER_CONSTANT, borderValue=0.0)
+
     def ground_height_m(self, points_en_m: ArrayLike) -> NDArray[np.float64]:
         """Ground height [m] of the solver's mesh at each (..., 2) point (edge cells held beyond the domain)."""
         col, row = self.grid.grid_coordinates(points_en_m)
         rows, cols = self.grid.shape
         col = np.clip(col, 0.0, cols - 1.0)
         row = np.clip(row, 0.0, rows - 1.0)
+        if np.ndim(col) == 0:
+            return np.asarray(self._ground_at(float(col), float(row)))
         return sample_grid(self.run.ground_m, col, row, cv2.INTER_LINEAR, 0.0).astype(float)
+
+    def _ground_at(self, col: float, row: float) -> float:
+        """Bilinear ground height at one fractional (col, row) on the grid (the rangefinder's single reading)."""
+        g = self.run.ground_m
+        c0, r0 = min(int(col), g.shape[1] - 2), min(int(row), g.shape[0] - 2)
+        fc, fr = col - c0, row - r0
+        top = (1.0 - fc) * float(g[r0, c0]) + fc * float(g[r0, c0 + 1])
+        bottom = (1.0 - fc) * float(g[r0 + 1, c0]) + fc * float(g[r0 + 1, c0 + 1])
+        return (1.0 - fr) * top + fr * bottom
 
     def is_water(self, points_en_m: ArrayLike, t_s: float) -> NDArray[np.bool_]:
         return self.depth_m(points_en_m, t_s) > self.wet_depth_m
