@@ -44,6 +44,36 @@ DEEP_DEPTH_M = 1.2
 DEEP_DARKENING = 0.3
 
 
+STREAK_SPACING_M = 0.7
+"""Distance between flow streaks across the current [m]."""
+STREAK_WAVE_M = 3.0
+"""Along the current the streaks wander with this wavelength [m]."""
+STREAK_CONTRAST = 0.07
+"""Brightness swing of the streaks on fast water (kept small: they are texture, not a second kind of ground)."""
+STREAK_FULL_SPEED_MPS = 0.4
+"""Water this fast shows the full streak contrast; still water shows none."""
+
+
+@lru_cache(maxsize=4)
+def streak_tile(seed: int) -> NDArray[np.float32]:
+    """(TILE_PX, TILE_PX) streak pattern in [-1, 1], lines along the tile's x axis (periodic, so it tiles): the
+    renderer turns it to run along the current. Lines ``STREAK_SPACING_M`` apart that wander every
+    ``STREAK_WAVE_M``, with a seeded phase."""
+    rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x57EA])
+    n = TILE_PX
+    tile_m = n * TILE_RESOLUTION_M
+    lines = round(tile_m / STREAK_SPACING_M)
+    waves = round(tile_m / STREAK_WAVE_M)
+    y, x = np.mgrid[0:n, 0:n] * (2.0 * math.pi / n)
+    wander = 1.5 * np.sin(waves * x + rng.uniform(0.0, 2.0 * math.pi)) + 0.6 * fractal_noise(n, 2.0, rng)
+    return np.sin(lines * y + wander).astype(np.float32)
+
+
+def streak_strength(speed_mps: NDArray[np.float32]) -> NDArray[np.float32]:
+    """How much of the streak contrast water of this speed shows: none when still, all from the full speed on."""
+    return (STREAK_CONTRAST * _smoothstep(speed_mps / np.float32(STREAK_FULL_SPEED_MPS))).astype(np.float32)
+
+
 def water_shading(depth_m: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """(turbid weight, brightness) per pixel of water at ``depth_m``: shallow water near the shore is the turbid
     colour, deep water is darker (less light comes back from the bottom)."""

@@ -3,7 +3,7 @@
 Each pixel centre is projected to the ground (nadir pinhole over locally flat ground at the height above ground a
 rangefinder would read, see ``camera/model.py`` and ``world/ground.py``), the flood model says whether it is water,
 and the pixel takes the world-anchored land or water texture; a flood that knows its depth (the hydro model) shades
-its water by depth: turbid at the shore, darker where deep. Land within a
+its water by depth (turbid at the shore, darker where deep) and draws streaks along its flow. Land within a
 seeded, varying distance of the water is darkened into a wet shoreline band; then lighting, a slight optical blur
 and sensor noise are applied. Everything is vectorised and the textures are cached per seed, so a 128x128 frame
 costs a fraction of a millisecond (see ``bench/camera_perception.py``).
@@ -28,6 +28,8 @@ from mock_autopilot.camera.appearance import (
     WET_BAND_UNIT_M,
     ground_textures,
     sensor_effects,
+    streak_strength,
+    streak_tile,
     water_shading,
 )
 from mock_autopilot.camera.model import CameraModel
@@ -141,7 +143,9 @@ def render_frame(
         wet_factor = cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
         water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
         if depth is not None:
-            water_colour = _shade_by_depth(water_colour, depth[m : m + h, m : m + w])
+            flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
+            streaks = _streaks(flow, points[m : m + h, m : m + w], seed)
+            water_colour = _shade_by_depth(water_colour, depth[m : m + h, m : m + w], streaks)
         colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
 
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
@@ -150,6 +154,31 @@ def render_frame(
     image = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
 
+
+
+def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], seed: int) -> NDArray[np.float32]:
+    """Per-pixel brightness gain of flow streaks: the world-anchored streak tile turned to run along the current
+    below the drone, with the contrast of its speed (one warp of a cached tile; a frame spans a few metres, over
+    which the current hardly turns)."""
+    shape = points_en_m.shape[:2]
+    speed = math.hypot(*flow_mps)
+    strength = float(streak_strength(np.float32(speed)))
+    if strength <= 0.0:
+        return np.ones(shape, np.float32)
+    c, s = flow_mps[0] / speed, flow_mps[1] / speed
+    origin = points_en_m[0, 0]
+    d_col = points_en_m[0, 1] - origin
+    d_row = points_en_m[1, 0] - origin
+    k = 1.0 / TILE_RESOLUTION_M
+    tile_m = TILE_PX * TILE_RESOLUTION_M
+    along0, across0 = (origin[0] * c + origin[1] * s) % tile_m, (-origin[0] * s + origin[1] * c) % tile_m
+    to_tile = np.array([
+        [k * (d_col[0] * c + d_col[1] * s), k * (d_row[0] * c + d_row[1] * s), k * along0],
+        [k * (-d_col[0] * s + d_col[1] * c), k * (-d_row[0] * s + d_row[1] * c), k * across0],
+    ])
+    pattern = cv2.warpAffine(streak_tile(seed), to_tile, (shape[1], shape[0]),
+                             flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_WRAP)
+    return cv2.addWeighted(pattern, strength, pattern, 0.0, 1.0)
 
 
 @lru_cache(maxsize=1)
@@ -163,13 +192,16 @@ def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     return gain.reshape(1, 256, 3).astype(np.float32), offset.reshape(1, 256, 3).astype(np.float32)
 
 
-def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32]) -> NDArray[np.uint8]:
+def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32],
+                    streaks: NDArray[np.float32]) -> NDArray[np.uint8]:
     """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
-    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated)."""
+    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated), with flow streaks
+    (``appearance.streak_gain``) on the clear part."""
     gain, offset = _depth_luts()
     step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
     step3 = cv2.merge([step, step, step])
-    shaded = cv2.multiply(water_bgr, cv2.LUT(step3, gain), dtype=cv2.CV_32F)
+    clear_gain = cv2.multiply(cv2.LUT(step3, gain), cv2.merge([streaks, streaks, streaks]))
+    shaded = cv2.multiply(water_bgr, clear_gain, dtype=cv2.CV_32F)
     return cv2.add(shaded, cv2.LUT(step3, offset), dtype=cv2.CV_8U)
 
 

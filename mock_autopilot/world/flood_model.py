@@ -49,6 +49,10 @@ class DepthField(Protocol):
         """``depth_m`` for an (H, W, 2) grid of points affine in its indices (faster; the camera's footprint)."""
         ...
 
+    def flow_at_mps(self, point_en_m: ArrayLike, t_s: float) -> tuple[float, float]:
+        """Surface flow velocity [m/s; east, north] at one point (the camera draws it as streaks)."""
+        ...
+
 
 @dataclass(frozen=True)
 class ExpandingCircle:

@@ -46,7 +46,10 @@ class HydroFlood:
     """Hydraulic seconds per flood-clock second."""
     start_s: float = 0.0
     """Hydraulic time at flood time 0 (water that has flowed before the swarm starts)."""
+    manning_n: float = 0.04
+    """The run's friction, for the flow speed the camera draws as streaks."""
     grid: Heightmap = field(init=False, repr=False)
+    _flows: dict[int, NDArray[np.float32]] = field(init=False, repr=False, default_factory=dict)
     _outlines: dict[float, Outline] = field(init=False, repr=False, default_factory=dict)
     _target: list[NDArray[np.bool_]] = field(init=False, repr=False, default_factory=list)
 
@@ -75,16 +78,49 @@ class HydroFlood:
         """``depth_m`` for an (H, W, 2) grid of points that is affine in its indices (a nadir camera's footprint):
         one ``warpAffine`` of the depth raster instead of a per-point lookup."""
         h, w = points_en_m.shape[:2]
+        return cv2.warpAffine(self.depth_raster_m(t_s), self._to_raster(points_en_m), (w, h),
+                              flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_CONSTANT,
+                              borderValue=0.0)
+
+    def _to_raster(self, points_en_m: NDArray[np.float64]) -> NDArray[np.float64]:
+        """2x3 affine map from (column, row) of an affine grid of points to fractional raster (column, row)."""
+        h, w = points_en_m.shape[:2]
         origin = points_en_m[0, 0]
         along_col = points_en_m[0, 1] - origin if w > 1 else np.zeros(2)
         along_row = points_en_m[1, 0] - origin if h > 1 else np.zeros(2)
         cell = self.grid.cell_m
-        rows, cols = self.grid.shape
         c0, r0 = self.grid.grid_coordinates(origin)
-        to_raster = np.array([[along_col[0] / cell, along_row[0] / cell, float(c0)],
-                              [-along_col[1] / cell, -along_row[1] / cell, float(r0)]])
-        return cv2.warpAffine(self.depth_raster_m(t_s), to_raster, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
-                              borderMode=cv2.BORDER_CONSTANT, borderValue=0.0)
+        return np.array([[along_col[0] / cell, along_row[0] / cell, float(c0)],
+                         [-along_col[1] / cell, -along_row[1] / cell, float(r0)]])
+
+    def flow_raster_mps(self, t_s: float) -> NDArray[np.float32]:
+        """(rows, cols, 2) surface flow velocity [m/s; east, north] of the recorded frame nearest ``t_s``, estimated
+        from the water surface: downhill along its slope S at Manning's speed ``h^(2/3) √S / n`` (the rasters hold
+        depth only; streaks need a direction and a rough speed, not the solver's momentum)."""
+        times = self.run.times_s
+        k = int(np.argmin(np.abs(times - self.hydraulic_time_s(t_s))))
+        cached = self._flows.get(k)
+        if cached is not None:
+            return cached
+        depth = self.run.depth_m[k]
+        d_row, d_col = np.gradient(self.run.ground_m + depth, self.grid.cell_m)
+        slope_e, slope_n = d_col, -d_row
+        slope = np.hypot(slope_e, slope_n)
+        speed = np.where(depth > self.wet_depth_m, np.cbrt(depth) ** 2 * np.sqrt(slope) / self.manning_n, 0.0)
+        scale = speed / np.maximum(slope, 1e-9)
+        flow = np.dstack([-slope_e * scale, -slope_n * scale]).astype(np.float32)
+        self._flows[k] = flow
+        return flow
+
+    def flow_at_mps(self, point_en_m: ArrayLike, t_s: float) -> tuple[float, float]:
+        """Surface flow velocity [m/s; east, north] in the raster cell holding one point (zero off the domain)."""
+        col, row = self.grid.grid_coordinates(np.asarray(point_en_m, float))
+        rows, cols = self.grid.shape
+        c, r = int(round(float(col))), int(round(float(row)))
+        if not (0 <= c < cols and 0 <= r < rows):
+            return 0.0, 0.0
+        flow = self.flow_raster_mps(t_s)[r, c]
+        return float(flow[0]), float(flow[1])
 
     def ground_height_m(self, points_en_m: ArrayLike) -> NDArray[np.float64]:
         """Ground height [m] of the solver's mesh at each (..., 2) point (edge cells held beyond the domain)."""

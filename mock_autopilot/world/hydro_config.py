@@ -138,4 +138,4 @@ def hydro_flood(f: Fields, seed: int) -> HydroFlood:
     wet = f.number("wet_depth_m", 0.02, positive=True)
     f.reject_unknown()
     run, _ = cached_run(run_key(spec, heightmap, solver_version()), lambda: run_anuga(spec, heightmap))
-    return HydroFlood(run, sources[0].anchor_en_m if sources else None, wet, time_scale, start_s)
+    return HydroFlood(run, sources[0].anchor_en_m if sources else None, wet, time_scale, start_s, spec.manning_n)

@@ -127,3 +127,13 @@ def test_water_over_terrain_is_shaded_by_depth_and_seen_from_the_height_above_gr
     turbid, brightness = water_shading(np.array([0.02, 0.1, 0.5, 2.0], np.float32))
     assert np.all(np.diff(turbid) <= 0) and turbid[0] > 0.9 and turbid[-1] == 0.0
     assert np.all(np.diff(brightness) <= 0) and brightness[0] == 1.0 and brightness[-1] < 0.8
+
+
+def test_flow_streaks_run_along_the_current_and_vanish_on_still_water() -> None:
+    from mock_autopilot.camera.render import _streaks
+
+    points = ground_points_en_m(CameraModel(), (3.0, -2.0, 10.0), 0.0)
+    assert np.all(_streaks((0.0, 0.0), points, 1) == 1.0)
+    east = _streaks((0.6, 0.0), points, 1)  # current to the east: streaks vary across it (north), little along it
+    assert east.std() > 0.02
+    assert np.abs(np.diff(east, axis=1)).mean() < 0.5 * np.abs(np.diff(east, axis=0)).mean()  # image up = north
