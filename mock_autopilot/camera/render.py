@@ -33,7 +33,7 @@ from mock_autopilot.camera.appearance import (
     water_shading,
 )
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.world.flood_model import DepthField, FloodModel
+from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
 
 MIN_ALTITUDE_M = 0.1
@@ -60,7 +60,7 @@ class RenderedFrame:
 
 @lru_cache(maxsize=64)
 def _knows_depth(model_type: type) -> bool:
-    """Whether a flood model class is a :class:`DepthField` (checked once per class: a Protocol check is slow, and
+    """Whether a flood model class is a ``flood_model.DepthField`` (checked once per class: a Protocol check is slow, and
     one with a data member cannot be made on a class)."""
     return all(callable(getattr(model_type, name, None)) for name in ("depth_m", "depth_on_affine_grid_m"))
 
