@@ -184,7 +184,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
     seed = integer(raw, "seed", 1, "")
     flood = sub_table(raw, "flood")
     if "model" not in flood:
-        raise ScenarioError("flood.model: missing (circle, ellipse, nonconvex, drift or terrain)")
+        raise ScenarioError("flood.model: missing (circle, ellipse, nonconvex, drift, terrain or hydro)")
     fleet = sub_table(raw, "fleet")
     if fleet.get("launch_en_m") == AUTO_LAUNCH and resolve_launch is not None:
         fleet = resolve_launch(fleet, flood, seed, source_dir)

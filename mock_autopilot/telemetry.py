@@ -17,6 +17,7 @@ from pymavlink.dialects.v20 import common as mavlink
 
 from comms.frames import enu_to_geodetic, local_ned_to_mission_enu
 from mock_autopilot.px4_modes import base_mode, custom_mode
+from mock_autopilot.rangefinder import distance_sensor_message
 
 if TYPE_CHECKING:
     from mock_autopilot.vehicle import Vehicle
@@ -180,6 +181,12 @@ def vfr_hud(v: Vehicle, now_s: float) -> mavlink.MAVLink_message:
     return mavlink.MAVLink_vfr_hud_message(speed, speed, heading, throttle, amsl, -float(vel[2]))
 
 
+def distance_sensor(v: Vehicle, now_s: float) -> mavlink.MAVLink_message:
+    """The downward rangefinder: mission up (pad height + local up) minus the ground below (``rangefinder.py``)."""
+    up = float(v.config.pad_enu_m[2]) - float(v.position_ned_m[2])
+    return distance_sensor_message(time_boot_ms(v, now_s), up - v.ground_below_enu_m)
+
+
 def battery_status(v: Vehicle, now_s: float) -> mavlink.MAVLink_message:
     voltages = [int(v.battery_voltage_v * 1000)] + [65535] * 9
     remaining = v.battery_remaining
@@ -234,6 +241,7 @@ BUILDERS: dict[str, Callable[[Vehicle, float], mavlink.MAVLink_message | None]] 
     "ATTITUDE": attitude,
     "ALTITUDE": altitude,
     "VFR_HUD": vfr_hud,
+    "DISTANCE_SENSOR": distance_sensor,
     "BATTERY_STATUS": battery_status,
     "POSITION_TARGET_LOCAL_NED": position_target_local_ned,
     "AUTOPILOT_VERSION": autopilot_version,

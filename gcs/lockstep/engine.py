@@ -37,10 +37,11 @@ from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, rep
 from gcs.scenario import Scenario
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import render_frame
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_LEADER
 from vehicle_agents.core.onboard import (
@@ -112,8 +113,11 @@ def telemetry_of(state: BackendState, positions_enu_m: NDArray[np.float64], gps:
 def _perception_for(
     flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int
 ) -> PerceptionResult:
+    """Render and perceive one frame; perception scales by the downward rangefinder's height above ground, as the
+    agent does with PX4's DISTANCE_SENSOR (equal to the altitude over flat ground)."""
     frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed)
-    return perceive(frame.image_bgr, float(position_enu_m[2]), camera.fov_deg, 0.0)
+    height_m = max(height_above_ground_m(flood, position_enu_m), MIN_ALTITUDE_M)
+    return perceive(frame.image_bgr, height_m, camera.fov_deg, 0.0)
 
 
 def run_lockstep(

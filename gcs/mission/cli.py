@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 from collections.abc import Sequence
 from datetime import datetime, timezone
@@ -16,6 +17,7 @@ from gcs.dashboard.cli_checks import check_dashboard_args
 from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
+from mock_autopilot.world.hydro_cache import CACHE_ENV
 from vehicle_agents.control.params import MODES
 
 
@@ -48,6 +50,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="override a scenario parameter, e.g. --set flood.radius_end_m=20 (repeatable)")
     parser.add_argument("--base-port", type=int, default=14540, help="first vehicle's MAVLink API port (processes)")
     parser.add_argument("--gcs-port", type=int, default=14550, help="ground station MAVLink port (processes)")
+    parser.add_argument("--cache-dir", type=Path, default=None, metavar="DIR",
+                        help="where hydrodynamic flood runs are cached (default: the user's cache directory); "
+                             "every process started inherits it")
     parser.add_argument("--no-live", dest="live", action="store_false", help="no live terminal view")
     map_args = parser.add_argument_group("live map in a browser (processes engine)")
     map_args.add_argument("--dashboard-port", type=int, default=8080, metavar="N",
@@ -90,6 +95,8 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         _fail(f"--backend {ns.backend}: only the lockstep engine has a choice (processes fly the mock PX4 fleet)")
     check_dashboard_args(ns.dashboard_port, ns.dashboard_token, ns.tiles, _fail)
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
+    if ns.cache_dir is not None:
+        os.environ[CACHE_ENV] = str(ns.cache_dir.resolve())
     return MissionOptions(
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,

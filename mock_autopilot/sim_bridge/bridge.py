@@ -25,9 +25,10 @@ from comms.keys import MissionKeys
 from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, encode
 from comms.zenoh_session import ZenohSession
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import render_frame
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 
 MIN_CAMERA_ALTITUDE_M = 1.0
 """Below this the camera sees only the pad: no frames are sent (a real companion computer would send them, but no
@@ -66,7 +67,7 @@ def camera_frame_message(
         vehicle_id=vehicle.vehicle_id,
         seq=seq,
         t_s=float(t_s),
-        altitude_m=float(vehicle.position_enu_m[2]),
+        altitude_m=max(height_above_ground_m(flood, vehicle.position_enu_m), MIN_ALTITUDE_M),
         yaw_ned_rad=float(vehicle.yaw_ned_rad),
         fov_deg=camera.fov_deg,
         width_px=image.shape[1],
