@@ -2,7 +2,8 @@
 
 Joins as a Zenoh client (default ``tcp/127.0.0.1:7447``, the mission hub) and prints the drones' states, the flood
 polygon (its properties and vertex count) and liveliness changes. What it does any Zenoh client can do: the public
-keys are plain MessagePack maps and GeoJSON. Example::
+keys are plain MessagePack maps and GeoJSON (a drone's state is followed by its 31-byte signature block, a second
+MessagePack object, which a listener without the mission key skips unchecked). Example::
 
     python -m comms.listen --mission circle --duration-s 10
 """
@@ -20,6 +21,7 @@ from collections.abc import Sequence
 from comms.keys import KeyNameError, MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import FloodPolygon, NeighbourState, decode
+from comms.signing import unsigned_body
 from comms.zenoh_session import DEFAULT_ENDPOINT, ZenohConfig, ZenohOpenError, ZenohSession
 
 
@@ -35,7 +37,7 @@ def describe(keys: MissionKeys, key: str, payload: bytes, kind: str) -> dict | N
         return {"key": key, "t_s": props.t_s, "area_m2": round(props.area_m2, 1), "perimeter_m": round(props.perimeter_m, 1),
                 "vertices": len(poly.geometry.coordinates[0]) - 1}
     if keys.vehicle_id_of(key) is not None and key.endswith("/state"):
-        s = decode(NeighbourState, payload)
+        s = decode(NeighbourState, unsigned_body(payload))
         if s is None:
             return {"key": key, "error": "undecodable state"}
         return {"key": key, "id": s.sender_id, "role": s.role, "seq": s.seq, "t_s": round(s.t_s, 3),

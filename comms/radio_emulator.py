@@ -40,6 +40,8 @@ from comms.messages import (
     encode,
 )
 from comms.radio_model import RadioModel
+from comms.signing import MissionKey, Verifier, unsigned_body
+from comms.swarm_link import wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohSession
 
 
@@ -70,7 +72,8 @@ class RadioRelay:
     simulation seconds and are divided by ``speed`` (simulation seconds per relay second).
     """
 
-    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000) -> None:
+    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000,
+                 verifier: Verifier | None = None) -> None:
         if speed <= 0:
             raise ValueError("speed must be > 0")
         self.radio = radio
@@ -78,6 +81,7 @@ class RadioRelay:
         self.stats = DecodeStats() if stats is None else stats
         self.counters = RelayCounters()
         self.max_in_flight = max_in_flight
+        self.verifier = verifier
         self._batch: list[tuple[int, int, bytes, float]] = []  # (truth slot, seq, payload, rx time)
         self._batch_ids: list[int] = []
         self._in_flight: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []  # due, receiver id, sender id, payload
@@ -109,10 +113,21 @@ class RadioRelay:
         self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids)}
         self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in truth.vehicle_ids], dtype=np.int64)
 
-    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float) -> NeighbourState | None:
-        """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``."""
+    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float, now_us: int = 0) -> NeighbourState | None:
+        """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``.
+
+        With a ``verifier`` a state must carry the tag of the vehicle whose key it came on, checked against the wall
+        clock ``now_us`` [µs since the epoch] (a forged state with a huge ``seq`` cannot silence a genuine sender);
+        the signed payload is forwarded whole, so every receiver checks it again."""
         self.counters.messages_in += 1
-        state = decode(NeighbourState, payload, self.stats)
+        if self.verifier is None:
+            body = unsigned_body(payload)
+        else:
+            body = self.verifier.check(payload, -1 if key_vehicle_id is None else key_vehicle_id, now_us).body
+            if body is None:
+                self.counters.rejected += 1
+                return None
+        state = decode(NeighbourState, body, self.stats)
         if state is None or state.sender_id != key_vehicle_id:
             self.counters.rejected += 1
             return None
@@ -254,6 +269,8 @@ class RadioEmulatorConfig:
     tick_s: float = 0.005  # at most one delivery cycle per tick: batches messages, bounds puts per second
     paced: bool = False
     """Mission time from the truth stream, and each truth acknowledged (a paced simulation clock)."""
+    key: MissionKey | None = None
+    """The mission key: states without a valid tag are not relayed (None: relayed unchecked)."""
 
 
 class RadioEmulator:
@@ -267,7 +284,8 @@ class RadioEmulator:
         self.keys = MissionKeys(config.mission)
         self._own_session = session is None
         self.session = ZenohSession(config.zenoh) if session is None else session
-        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed)
+        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed,
+                                verifier=None if config.key is None else Verifier(config.key))
         self.bundles_out = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -334,7 +352,7 @@ class RadioEmulator:
                             relay.on_truth(truth)
                 for item in items:
                     if item.key != keys.truth and item.kind == "put":
-                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s)
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s, wall_clock_us())
                 t_s = relay.truth_t_s or 0.0
                 for receiver, entries in relay.pop_due(time.monotonic()).items():
                     session.put(keys.inbox(receiver), encode(RadioBundle(t_s=t_s, entries=entries)))
@@ -357,7 +375,7 @@ class RadioEmulator:
                 sent_at_s = relay.truth_t_s or 0.0
                 for item in items:
                     if item.key != keys.truth and item.kind == "put":
-                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s)
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s, wall_clock_us())
                 truth = None
                 for item in items:
                     if item.key == keys.truth:

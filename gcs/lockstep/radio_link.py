@@ -7,10 +7,16 @@ it (range on TRUE positions, seeded loss by the message's own ``seq``, as the ra
 jitter), so what only travels on the wire (the ring radius in ``extras``, the subsampled edge points) reaches the
 control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
 as it does on the public state keys.
+
+Each broadcast is also signed and checked once as on Zenoh (:mod:`comms.signing`; the sender is the drone, the
+timestamp its mission time in microseconds), so both engines pay the same per-message cost and a message the
+check refused would be dropped alike. Nobody else can reach this in-memory radio, so its key is a random one of
+this run; it never changes what is delivered.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 
 import numpy as np
@@ -18,6 +24,7 @@ from numpy.typing import NDArray
 
 from comms.messages import DecodeStats, NeighbourState, decode, encode
 from comms.radio_model import RadioModel
+from comms.signing import KEY_BYTES, MissionKey, Signer, Verifier
 from vehicle_agents.core.neighbours import Inbox
 
 
@@ -28,6 +35,9 @@ class InMemoryRadio:
         self.model = model
         self.vehicle_ids = np.asarray(vehicle_ids, dtype=np.int64)
         self.stats = DecodeStats()
+        key = MissionKey(os.urandom(KEY_BYTES))
+        self._signers = {int(vid): Signer(key, int(vid)) for vid in self.vehicle_ids}
+        self.verifier = Verifier(key)
         self._round = 0
         self._sent: dict[int, list[NeighbourState | None]] = {}
         self._pending_t = np.zeros(0)
@@ -48,9 +58,11 @@ class InMemoryRadio:
             if message is None:
                 decoded.append(None)
                 continue
-            payload = encode(message)
+            t_us = round(t_s * 1e6)
+            payload = self._signers[message.sender_id].sign(encode(message), t_us)
             self.bytes_sent += len(payload)
-            decoded.append(decode(NeighbourState, payload, self.stats))
+            body = self.verifier.check(payload, message.sender_id, t_us).body
+            decoded.append(None if body is None else decode(NeighbourState, body, self.stats))
         senders = np.array([i for i, m in enumerate(decoded) if m is not None], dtype=np.int64)
         if senders.size == 0:
             return decoded

@@ -48,6 +48,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--base-port", type=int, default=14540, help="first vehicle's MAVLink API port (processes)")
     parser.add_argument("--gcs-port", type=int, default=14550, help="ground station MAVLink port (processes)")
     parser.add_argument("--no-live", dest="live", action="store_false", help="no live terminal view")
+    parser.add_argument("--key-file", type=Path, default=None, metavar="FILE",
+                        help="mission key that signs commands and states (default: a new one in <out>/plan/mission.key)")
     return parser
 
 
@@ -81,7 +83,7 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
         backend=ns.backend or "kinematic", clock=ns.clock or "paced", agent_timeout_s=ns.agent_timeout_s,
-        strict=ns.strict,
+        strict=ns.strict, key_file=ns.key_file,
     )
 
 

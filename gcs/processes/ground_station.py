@@ -55,6 +55,8 @@ from comms.messages import (
     encode,
     flood_polygon_from_enu,
 )
+from comms.key_file import KeyFileError, read_key_file
+from comms.signing import MissionKey
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage
@@ -63,6 +65,7 @@ from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
 from gcs.processes.event_log import EventLog
 from gcs.processes.host_capacity import agent_niceness, estimate_capacity
+from gcs.processes.intrusion_watch import IntrusionWatch
 from gcs.plan.files import write_plans
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
@@ -150,6 +153,8 @@ class GroundStation:
         self._exited_agents: set[int] = set()
         self._silent_vehicles: set[int] = set()
         self._command_seq = 0
+        self.mission_key: MissionKey | None = None
+        self.intrusions: IntrusionWatch | None = None
         self._next_polygon_t_s = 0.0
         self._grid = CoverageGrid.around(*_flood_box(self.flood, self.duration_s), max_cells_per_side=100)
 
@@ -221,10 +226,14 @@ class GroundStation:
 
     def _start_children(self) -> None:
         opts = self.options
-        plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission)
+        try:
+            plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission, opts.key_file)
+            self.mission_key = read_key_file(plans.key)
+        except KeyFileError as exc:
+            raise MissionFailed(str(exc)) from None
         self.services["sim"] = self.supervisor.start("sim", sim_command(opts, plans.fleet))
         self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, plans.cameras))
-        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
+        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission, plans.key))
         self._agent_plans = plans.agents
         self._agents_to_start = [v.vehicle_id for v in self.scenario.vehicles]
         self._write_pids()
@@ -262,7 +271,9 @@ class GroundStation:
         truth_buf = hub.subscribe(self.keys.truth)
         pace_buf = hub.subscribe(self.keys.pace_report)
         hub.subscribe(self.keys.camera_stats, pace_buf)
-        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
+        assert self.mission_key is not None
+        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs", key=self.mission_key, audit=True)
+        self.intrusions = IntrusionWatch(hub, self.keys, self.mission_key, self.events, lambda: self.mission_t_s)
         started_wall_s = time.monotonic()
         takeoff_deadline_s: float | None = None
         clock_seen = (self.mission_t_s, time.monotonic())
@@ -286,6 +297,7 @@ class GroundStation:
                         self.truth = truth
                         self.mission_t_s = truth.t_s
                 self._poll_swarm(link)
+                self.intrusions.poll(now_wall_s)
                 self._poll_pace(pace_buf)
                 clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
                 self._check_children()
@@ -351,7 +363,8 @@ class GroundStation:
         self._command_seq += 1
         msg = MissionCommand(seq=self._command_seq, t_s=self.mission_t_s, command=command,  # type: ignore[arg-type]
                              phase=self.phase, flood_clock_start_t_s=self.flood_clock_start_s)
-        hub.put(self.keys.command, encode(msg))
+        assert self.intrusions is not None
+        hub.put(self.keys.command, self.intrusions.sign_command(encode(msg)))
 
     def _check_clock_moves(self, seen: tuple[float, float], now_wall_s: float) -> tuple[float, float]:
         """Fail the run when the mission clock has stood still for :data:`CLOCK_STALL_WALL_S` in flight."""
@@ -394,6 +407,8 @@ class GroundStation:
 
     def _poll_swarm(self, link: SwarmLink) -> None:
         update = link.poll()
+        if self.intrusions is not None:
+            self.intrusions.observe_states(update.rejected)
         for state in update.states:
             old = self.states.get(state.sender_id)
             if old is None or state.seq > old.seq:

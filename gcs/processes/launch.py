@@ -44,6 +44,8 @@ class ProcessOptions:
     strict: bool = False
     """A degraded engine (rates not held, agents left behind) fails the run (exit 1)."""
     extra_agent_args: tuple[str, ...] = field(default=())
+    key_file: Path | None = None
+    """The mission key to use (copied into the plan folder); None: a new one per mission."""
     sim_faults: tuple[str, ...] = field(default=())
     """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
 
@@ -64,12 +66,14 @@ def cameras_command(options: ProcessOptions, plan: Path) -> list[str]:
     return ["mock_autopilot.sim_bridge.cameras", "--plan", str(plan), "--connect", options.zenoh_endpoint]
 
 
-def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> list[str]:
+def radio_command(options: ProcessOptions, scenario: Scenario, mission: str, key_file: Path) -> list[str]:
+    """The radio emulator, which relays only states signed with the mission key in ``key_file``."""
     radio = scenario.radio
     return [
         "comms.radio", "--mission", mission, "--range-m", f"{radio.range_m:g}", "--loss", f"{radio.loss:g}",
         "--latency-s", f"{radio.latency_s:g}", "--jitter-s", f"{radio.jitter_s:g}", "--seed", str(scenario.seed),
         "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, "--clock", options.clock,
+        "--key-file", str(key_file),
     ]
 
 
