@@ -30,6 +30,7 @@ import hashlib
 import hmac
 import struct
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 KEY_BYTES = 32
 TAG_BYTES = 16
@@ -70,14 +71,29 @@ class MissionKey:
         return "MissionKey(<secret>)"
 
 
-def _tag(key: MissionKey, signed_part: bytes | memoryview) -> bytes:
-    return hmac.digest(key.secret, signed_part, hashlib.sha256)[:TAG_BYTES]
+class Tagger:
+    """HMAC-SHA256 with one key, truncated to :data:`TAG_BYTES`, with the key's two padded hash states computed
+    once (RFC 2104: H((K ^ opad) | H((K ^ ipad) | m))): a tag then costs two state copies and two short hashes,
+    a third of what ``hmac.digest`` spends setting up the key on every call."""
+
+    def __init__(self, key: MissionKey) -> None:
+        block = key.secret.ljust(hashlib.sha256().block_size, b"\0")
+        self._inner = hashlib.sha256(bytes(b ^ 0x36 for b in block))
+        self._outer = hashlib.sha256(bytes(b ^ 0x5C for b in block))
+
+    def tag(self, data: bytes | memoryview) -> bytes:
+        inner = self._inner.copy()
+        inner.update(data)
+        outer = self._outer.copy()
+        outer.update(inner.digest())
+        return outer.digest()[:TAG_BYTES]
 
 
-def sign(key: MissionKey, body: bytes, sender: int, timestamp_us: int) -> bytes:
+def sign(key: MissionKey | Tagger, body: bytes, sender: int, timestamp_us: int) -> bytes:
     """``body`` with its signature block appended (see the module docstring for the layout)."""
+    tagger = key if isinstance(key, Tagger) else Tagger(key)
     signed_part = body + _BLOCK.pack(_BIN8_HEADER, VERSION, sender, timestamp_us)
-    return signed_part + _tag(key, signed_part)
+    return signed_part + tagger.tag(signed_part)
 
 
 @dataclass(frozen=True)
@@ -111,8 +127,7 @@ def unsigned_body(payload: bytes) -> bytes:
     return payload if block is None else payload[: block.body_bytes]
 
 
-@dataclass(frozen=True)
-class Verdict:
+class Verdict(NamedTuple):
     """The outcome of one check: the body when accepted, else the reason; ``sender`` is the claimed one (or None)."""
 
     body: bytes | None
@@ -126,13 +141,13 @@ class Signer:
     still yields fresh ones)."""
 
     def __init__(self, key: MissionKey, sender: int) -> None:
-        self.key = key
         self.sender = sender
+        self._tagger = Tagger(key)
         self._last_us = 0
 
     def sign(self, body: bytes, now_us: int) -> bytes:
         self._last_us = max(now_us, self._last_us + 1)
-        return sign(self.key, body, self.sender, self._last_us)
+        return sign(self._tagger, body, self.sender, self._last_us)
 
 
 @dataclass
@@ -149,22 +164,27 @@ class Verifier:
     counts: dict[Rejection, int] = field(default_factory=lambda: {r: 0 for r in Rejection})
     accepted: int = 0
 
+    def __post_init__(self) -> None:
+        self._tagger = Tagger(self.key)
+        self._window_us = self.window_s * 1e6
+
     def check(self, payload: bytes, allowed_sender: int | None, now_us: int) -> Verdict:
         """Accept ``payload`` from ``allowed_sender`` (None: any sender) or say why not."""
-        block = _unpack_block(payload)
-        if block is None:
-            return self._reject(Rejection.UNSIGNED, None)
-        sender, timestamp_us = block
         n = len(payload)
+        if n <= TRAILER_BYTES:
+            return self._reject(Rejection.UNSIGNED, None)
+        header, version, sender, timestamp_us = _BLOCK.unpack_from(payload, n - TRAILER_BYTES)
+        if header != _BIN8_HEADER or version != VERSION:
+            return self._reject(Rejection.UNSIGNED, None)
         end = n - TAG_BYTES
         view = memoryview(payload)
-        if not hmac.compare_digest(_tag(self.key, view[:end]), view[end:]):
+        if not hmac.compare_digest(self._tagger.tag(view[:end]), view[end:]):
             return self._reject(Rejection.BAD_TAG, sender, timestamp_us)
         if allowed_sender is not None and sender != allowed_sender:
             return self._reject(Rejection.WRONG_SENDER, sender, timestamp_us)
         if timestamp_us <= self.newest_us.get(sender, -1):
             return self._reject(Rejection.REPLAYED, sender, timestamp_us)
-        if abs(timestamp_us - now_us) > self.window_s * 1e6:
+        if abs(timestamp_us - now_us) > self._window_us:
             return self._reject(Rejection.OUT_OF_WINDOW, sender, timestamp_us)
         self.newest_us[sender] = timestamp_us
         self.accepted += 1

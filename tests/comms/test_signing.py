@@ -17,6 +17,7 @@ from comms.signing import (
     MissionKey,
     Rejection,
     Signer,
+    Tagger,
     Verifier,
     read_block,
     sign,
@@ -114,3 +115,13 @@ def test_missing_key_file(tmp_path: Path) -> None:
         read_key_file(tmp_path / "none")
     write_key_file(tmp_path / "k", KEY)
     assert read_key_file(tmp_path / "k") == KEY
+
+
+def test_the_tag_is_rfc_2104_hmac_sha256_truncated_to_128_bits() -> None:
+    import hashlib
+    import hmac
+
+    for message in (b"", b"x" * 63, b"y" * 64, b"z" * 1000):
+        assert Tagger(KEY).tag(message) == hmac.digest(KEY.secret, message, hashlib.sha256)[:16]
+    payload = sign(KEY, b"body", 7, NOW_US)
+    assert payload[-16:] == hmac.digest(KEY.secret, payload[:-16], hashlib.sha256)[:16]
