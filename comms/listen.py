@@ -18,6 +18,7 @@ import threading
 import time
 from collections.abc import Sequence
 
+from comms.cli_args import add_tls_arguments, tls_from_args
 from comms.keys import KeyNameError, MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import FloodPolygon, NeighbourState, decode
@@ -50,11 +51,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--mission", default="circle")
     parser.add_argument("--connect", action="append", default=None, metavar="ENDPOINT", help=f"default {DEFAULT_ENDPOINT}")
     parser.add_argument("--duration-s", type=float, default=None)
+    add_tls_arguments(parser)
     parser.add_argument("--every-s", type=float, default=1.0, help="print each key at most this often (states are 20 Hz)")
     args = parser.parse_args(argv)
     try:
         keys = MissionKeys(args.mission)
-        config = ZenohConfig.client(*(args.connect or (DEFAULT_ENDPOINT,)))
+        tls = tls_from_args(args)
+        config = ZenohConfig(mode="client", connect=tuple(args.connect or (DEFAULT_ENDPOINT,)),
+                             extra_json5=() if tls is None else tls.json5_items())
     except (ValueError, KeyNameError) as error:
         print(f"comms.listen: {error}", file=sys.stderr)
         return 2
