@@ -54,6 +54,11 @@ def bundle_unpacker(keys: MissionKeys, max_bytes: int = 16 * 1024 * 1024):
     return unpack
 
 
+AUDIT_MAX_PENDING = 65536
+"""Samples an audit-mode link holds between polls: several seconds of 200 drones at 20 Hz, so a stalled consumer
+loses none."""
+
+
 def every_sample_unpacker():
     """A callback splitter that files each sample under its own key (``<key>#<n>``), so none is coalesced."""
     counter = itertools.count()
@@ -119,7 +124,7 @@ class SwarmLink:
         self.vehicle_id = vehicle_id
         self.via_radio = via_radio
         self.stats = decode_stats if stats is None else stats
-        self.buffer = LatestValueBuffer()
+        self.buffer = LatestValueBuffer(max_keys=AUDIT_MAX_PENDING if audit else 4096)
         self.rejected_spoofed = 0
         self.signer = None if key is None or vehicle_id is None else Signer(key, vehicle_id)
         self.verifier = None if key is None else Verifier(key)

@@ -29,7 +29,7 @@ from gcs.processes import ProcessOptions
 from gcs.processes.ground_station import GroundStation
 from gcs.scenario import load_scenario
 
-pytestmark = [pytest.mark.integration, pytest.mark.e2e]
+pytestmark = [pytest.mark.integration, pytest.mark.e2e, pytest.mark.slow]  # ~75 s: a whole mission
 
 BASE = 27300
 REPORT_WITHIN_S = 1.0
