@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
+from comms.key_file import KeyFileError, read_key_file
 from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
@@ -78,6 +79,11 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         _fail(f"--clock {ns.clock}: only the processes engine has a clock to choose (lockstep is one loop)")
     if ns.backend is not None and ns.engine != "lockstep":
         _fail(f"--backend {ns.backend}: only the lockstep engine has a choice (processes fly the mock PX4 fleet)")
+    if ns.key_file is not None:
+        try:
+            read_key_file(ns.key_file)
+        except KeyFileError as exc:
+            _fail(f"--key-file: {exc}")
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
     return MissionOptions(
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
