@@ -5,6 +5,8 @@ Public (documented in the README; any Zenoh client can subscribe):
 * ``floodwatch/<mission>/uav/<id>/state`` — each agent's ``NeighbourState`` (MessagePack), always published by
   the agent itself whether or not the radio emulator runs;
 * ``floodwatch/<mission>/gcs/polygon`` — the caged flood polygon, a GeoJSON Feature (JSON);
+* ``floodwatch/<mission>/gcs/events`` — ``PeerEvent`` (a vehicle declared dead or stale) and ``SecurityEvent``
+  (messages the ground station dropped for their authentication tag);
 * ``floodwatch/<mission>/alive/<id>`` — liveliness tokens: a vehicle's agent (``<id>`` = vehicle id) or a service
   (``gcs``, ``radio``, ``sim``); the token disappears when the process exits or is killed.
 
@@ -17,7 +19,6 @@ Internal (simulation and mission plumbing):
 * ``floodwatch/<mission>/radio/stats`` — ``RadioLinkStats`` (per-link counters);
 * ``floodwatch/<mission>/uav/<id>/edge`` — ``BoundaryEdgePoints`` seen by a boundary drone;
 * ``floodwatch/<mission>/gcs/command`` — ``MissionCommand`` (state-carrying, so newest-wins is right);
-* ``floodwatch/<mission>/gcs/events`` — ``PeerEvent`` (a vehicle declared dead or stale by the ground station);
 * ``floodwatch/<mission>/sim/clock`` — ``SimClockTick``: the paced simulation clock reached a control tick;
 * ``floodwatch/<mission>/sim/pace/<participant>`` — ``PaceAck``: an agent (vehicle id), the cameras or the radio
   has done its part for a tick;
