@@ -81,6 +81,8 @@ class RejectedMessage:
     key: str
     reason: Rejection
     claimed_sender: int | None
+    source: str = ""
+    """The publisher's Zenoh id when the sample carried one."""
 
 
 @dataclass(frozen=True)
@@ -132,7 +134,8 @@ class SwarmLink:
             assert vehicle_id is not None
             session.subscribe(keys.inbox(vehicle_id), self.buffer, unpack=bundle_unpacker(keys))
         else:
-            session.subscribe(keys.all_states, self.buffer, unpack=every_sample_unpacker() if audit else None)
+            session.subscribe(keys.all_states, self.buffer, unpack=every_sample_unpacker() if audit else None,
+                              with_source=audit)
         session.subscribe_alive(keys.all_alive, self.buffer, history=True)
         name = participant if participant is not None else (None if vehicle_id is None else str(vehicle_id))
         if name is not None:
@@ -169,7 +172,8 @@ class SwarmLink:
                 verdict = verifier.check(payload, -1 if key_id is None else key_id, now_us)
                 if verdict.body is None:
                     assert verdict.reason is not None
-                    update.rejected.append(RejectedMessage(item.key.partition("#")[0], verdict.reason, verdict.sender))
+                    update.rejected.append(RejectedMessage(item.key.partition("#")[0], verdict.reason, verdict.sender,
+                                                           item.source))
                     continue
                 payload = verdict.body
             state = decode(NeighbourState, payload, self.stats)

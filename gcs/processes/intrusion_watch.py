@@ -10,7 +10,7 @@ Each kind of attempt (reason, key, claimed sender) is reported at once the first
 ``report_period_s`` with the count since, so a flood of forgeries is counted in full without flooding the log:
 a line in events.log and the live view, and a :class:`~comms.messages.SecurityEvent` on the public events key.
 Zenoh 1.x gives no sender address for a plain ``put`` (``Sample.source_info`` is empty unless the publisher sets
-it); when a sample does carry one, its Zenoh id is named.
+it); when a sample does carry one, the event names that Zenoh id and, when the hub has a link to it, its address.
 """
 
 from __future__ import annotations
@@ -39,6 +39,8 @@ class IntrusionTally:
 
     report_period_s: float = 1.0
     totals: dict[tuple[Rejection, str, str], int] = field(default_factory=dict)
+    sources: dict[tuple[Rejection, str, str], str] = field(default_factory=dict)
+    """The newest publisher Zenoh id seen per kind (when samples carried one)."""
     _unreported: dict[tuple[Rejection, str, str], int] = field(default_factory=dict)
     _last_report_s: dict[tuple[Rejection, str, str], float] = field(default_factory=dict)
 
@@ -46,6 +48,8 @@ class IntrusionTally:
         kind = (rejected.reason, rejected.key, sender_name(rejected.claimed_sender))
         self.totals[kind] = self.totals.get(kind, 0) + 1
         self._unreported[kind] = self._unreported.get(kind, 0) + 1
+        if rejected.source:
+            self.sources[kind] = rejected.source
 
     def due(self, now_s: float) -> list[tuple[Rejection, str, str, int, int]]:
         """(reason, key, claimed sender, count since the last report, total) for every kind due at ``now_s``."""
@@ -63,7 +67,15 @@ class IntrusionTally:
         return sum(self.totals.values())
 
 
-def event_text(reason: Rejection, key: str, claimed: str, count: int, total: int, command_key: str) -> str:
+def source_text(zid: str, address: str) -> str:
+    """How the event names the sender: its Zenoh id and address when known."""
+    if not zid:
+        return "sender address not given by Zenoh"
+    return f"sent by Zenoh session {zid}" + (f" at {address}" if address else "")
+
+
+def event_text(reason: Rejection, key: str, claimed: str, count: int, total: int, command_key: str,
+               source: str = "sender address not given by Zenoh") -> str:
     """One events.log line for ``count`` rejected messages of one kind."""
     what = "command" if key == command_key else "state"
     if reason is Rejection.WRONG_SENDER:
@@ -72,7 +84,7 @@ def event_text(reason: Rejection, key: str, claimed: str, count: int, total: int
         body = f"command on {key} that the ground station did not sign ({_WHAT[reason]}, claimed sender {claimed})"
     else:
         body = f"{what} on {key} {_WHAT[reason]} (claimed sender {claimed})"
-    return f"SECURITY: {body}: dropped {count} (total {total}); sender address not given by Zenoh"
+    return f"SECURITY: {body}: dropped {count} (total {total}); {source}"
 
 
 class IntrusionWatch:
@@ -87,7 +99,7 @@ class IntrusionWatch:
         self.tally = IntrusionTally(report_period_s)
         self._log = log
         self._mission_time_s = mission_time_s
-        self._command_buf = session.subscribe(keys.command, unpack=every_sample_unpacker())
+        self._command_buf = session.subscribe(keys.command, unpack=every_sample_unpacker(), with_source=True)
 
     def sign_command(self, body: bytes) -> bytes:
         return self.signer.sign(body, wall_clock_us())
@@ -104,9 +116,11 @@ class IntrusionWatch:
                 continue
             verdict = self.commands.check(item.payload, GROUND_STATION, now_us)
             if verdict.reason is not None:
-                self.tally.observe(RejectedMessage(self.keys.command, verdict.reason, verdict.sender))
+                self.tally.observe(RejectedMessage(self.keys.command, verdict.reason, verdict.sender, item.source))
         for reason, key, claimed, count, total in self.tally.due(now_wall_s):
-            self._log(event_text(reason, key, claimed, count, total, self.keys.command))
+            zid = self.tally.sources.get((reason, key, claimed), "")
+            address = self.session.address_of(zid) if zid else ""
+            self._log(event_text(reason, key, claimed, count, total, self.keys.command, source_text(zid, address)))
             event = SecurityEvent(t_s=self._mission_time_s(), reason=reason.value, key=key, claimed_sender=claimed,
-                                  count=count, total=total)
+                                  count=count, total=total, source=f"{zid} {address}".strip())
             self.session.put_once(self.keys.events, encode(event))

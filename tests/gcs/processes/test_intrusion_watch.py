@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from comms.signing import Rejection
 from comms.swarm_link import RejectedMessage
-from gcs.processes.intrusion_watch import IntrusionTally, event_text
+from gcs.processes.intrusion_watch import IntrusionTally, event_text, source_text
 
 COMMAND = "floodwatch/m/gcs/command"
 STATE_3 = "floodwatch/m/uav/3/state"
@@ -27,3 +27,11 @@ def test_event_lines_name_what_happened() -> None:
     assert "vehicle 5 speaking for another id on " + STATE_3 in event_text(Rejection.WRONG_SENDER, STATE_3, "5", 1, 1,
                                                                             COMMAND)
     assert "replayed" in event_text(Rejection.REPLAYED, COMMAND, "gcs", 2, 3, COMMAND)
+
+
+def test_the_sender_is_named_when_zenoh_gives_it() -> None:
+    tally = IntrusionTally()
+    tally.observe(RejectedMessage(COMMAND, Rejection.BAD_TAG, 0xFFFF_FFFF, source="ab12"))
+    assert tally.sources[(Rejection.BAD_TAG, COMMAND, "gcs")] == "ab12"
+    assert source_text("ab12", "tcp/127.0.0.1:40000") == "sent by Zenoh session ab12 at tcp/127.0.0.1:40000"
+    assert source_text("", "") == "sender address not given by Zenoh"
