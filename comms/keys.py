@@ -7,7 +7,8 @@ Public (documented in the README; any Zenoh client can subscribe):
 * ``floodwatch/<mission>/gcs/polygon`` — the caged flood polygon, a GeoJSON Feature (JSON);
 * ``floodwatch/<mission>/gcs/vehicles`` — ``VehicleStatusReport``: every vehicle's status (MessagePack, >= 2 Hz);
 * ``floodwatch/<mission>/gcs/events`` — ``MissionEvent``: the ground station's event log and alerts (and the
-  ``PeerEvent`` of a ``SwarmLink.report_events`` caller);
+  ``PeerEvent`` of a ``SwarmLink.report_events`` caller, and ``SecurityEvent``: messages the ground station
+  dropped for their authentication tag);
 * ``floodwatch/<mission>/alive/<id>`` — liveliness tokens: a vehicle's agent (``<id>`` = vehicle id) or a service
   (``gcs``, ``radio``, ``sim``); the token disappears when the process exits or is killed.
 

@@ -22,13 +22,15 @@ SampleKind = Literal["put", "delete"]
 
 @dataclass(frozen=True)
 class Received:
-    """One sample as handed over: the key it came on, its raw payload, PUT/DELETE, and when it arrived
-    (``time.monotonic()`` of this host, comparable across processes on one machine)."""
+    """One sample as handed over: the key it came on, its raw payload, PUT/DELETE, when it arrived
+    (``time.monotonic()`` of this host, comparable across processes on one machine), and the Zenoh id of the session
+    that published it when the sample says so (empty otherwise)."""
 
     key: str
     payload: bytes
     kind: SampleKind
     rx_monotonic_s: float
+    source: str = ""
 
 
 class LatestValueBuffer:
@@ -51,11 +53,13 @@ class LatestValueBuffer:
         with self._cond:
             return len(self._pending)
 
-    def put(self, key: str, payload: bytes, kind: SampleKind = "put", rx_monotonic_s: float | None = None) -> None:
+    def put(self, key: str, payload: bytes, kind: SampleKind = "put", rx_monotonic_s: float | None = None,
+            source: str = "") -> None:
         """Store one sample (called from Zenoh threads: O(1), no I/O, no Zenoh calls)."""
-        self.put_many([(key, payload)], kind, rx_monotonic_s)
+        self.put_many([(key, payload)], kind, rx_monotonic_s, source)
 
-    def put_many(self, items: Iterable[tuple[str, bytes]], kind: SampleKind = "put", rx_monotonic_s: float | None = None) -> None:
+    def put_many(self, items: Iterable[tuple[str, bytes]], kind: SampleKind = "put", rx_monotonic_s: float | None = None,
+                 source: str = "") -> None:
         """Store several (key, payload) samples at once (one lock, one wake-up): used for radio bundles."""
         t = time.monotonic() if rx_monotonic_s is None else rx_monotonic_s
         waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Event]] = []
@@ -68,7 +72,7 @@ class LatestValueBuffer:
                 elif len(pending) >= self.max_keys:
                     self.rejected += 1
                     continue
-                pending[key] = Received(key, payload, kind, t)
+                pending[key] = Received(key, payload, kind, t, source)
             self._cond.notify_all()
             if self._async_waiters:
                 waiters, self._async_waiters = self._async_waiters, []

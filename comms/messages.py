@@ -246,6 +246,21 @@ class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sche
     observer: str = ""
 
 
+class SecurityEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/security/1"):
+    """Messages the ground station dropped for their authentication tag (:mod:`comms.signing`), one per kind of
+    attempt per second at most: ``reason`` (``unsigned``, ``bad_tag``, ``wrong_sender``, ``replayed``,
+    ``out_of_window``), the ``key`` they came on, the sender they claimed (``unknown`` when unsigned), how many
+    since the previous report (``count``) and in all (``total``), and the sender's address when Zenoh gives one."""
+
+    t_s: float
+    reason: str
+    key: str
+    claimed_sender: str
+    count: int
+    total: int
+    source: str = ""
+
+
 class SimClockTick(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/clock/1"):
     """The simulation clock has reached ``t_s`` (mission seconds) and every input for that instant is out.
 
@@ -354,11 +369,11 @@ class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature")
 
 
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
-                SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport, MissionEvent,
-                OperatorRequest, FloodEdgeTruth]
+                SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport,
+                MissionEvent, OperatorRequest, FloodEdgeTruth]
 M = TypeVar("M", NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
-            SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport, MissionEvent, OperatorRequest,
-            FloodEdgeTruth)
+            SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport, MissionEvent,
+            OperatorRequest, FloodEdgeTruth)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
 MAX_PAYLOAD_BYTES: dict[type, int] = {
@@ -370,6 +385,7 @@ MAX_PAYLOAD_BYTES: dict[type, int] = {
     RadioLinkStats: 16 * 1024 * 1024,
     RadioBundle: 16 * 1024 * 1024,
     PeerEvent: 4 * 1024,
+    SecurityEvent: 4 * 1024,
     SimClockTick: 1024,
     PaceAck: 1024,
     PaceReport: 1024 * 1024,

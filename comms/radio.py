@@ -13,9 +13,11 @@ import sys
 import threading
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
+from comms.key_file import read_key_file
 from comms.radio_emulator import RadioEmulator, RadioEmulatorConfig
 from comms.radio_model import BurstLoss, RadioModel
 from comms.zenoh_session import ZenohOpenError
@@ -43,6 +45,8 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                              "everything due by then is delivered; free: delays on the wall clock / --speed")
     parser.add_argument("--stats-period-s", type=float, default=1.0, help="how often per-link counters are published")
     parser.add_argument("--tick-s", type=float, default=0.005, help="delivery cycle: batches messages (adds up to this much latency)")
+    parser.add_argument("--key-file", type=Path, default=None, metavar="FILE",
+                        help="the mission key: relay only states with a valid tag (default: relay unchecked)")
     parser.add_argument("--duration-s", type=float, default=None, help="stop after this many wall seconds")
     add_zenoh_arguments(parser)
     return parser.parse_args(argv)
@@ -68,6 +72,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             tick_s=args.tick_s,
             paced=args.clock == "paced",
             ground_node_enu_m=None if args.ground_node is None else tuple(args.ground_node),
+            key=None if args.key_file is None else read_key_file(args.key_file),
         )
     except (ValueError, KeyNameError) as error:
         print(f"comms.radio: {error}", file=sys.stderr)

@@ -41,6 +41,8 @@ from comms.messages import (
     encode,
 )
 from comms.radio_model import GROUND_NODE_ID, RadioModel
+from comms.signing import MissionKey, Verifier, unsigned_body
+from comms.swarm_link import wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohSession
 
 
@@ -73,7 +75,7 @@ class RadioRelay:
     """
 
     def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000,
-                 ground_node_enu_m: tuple[float, float, float] | None = None) -> None:
+                 ground_node_enu_m: tuple[float, float, float] | None = None, verifier: Verifier | None = None) -> None:
         if speed <= 0:
             raise ValueError("speed must be > 0")
         self.radio = radio
@@ -84,6 +86,7 @@ class RadioRelay:
         self._batch: list[tuple[int, int, bytes, float, float]] = []  # (truth slot, seq, payload, rx time, source t)
         self.budgets = SenderBudgets(radio.bandwidth_bytes_per_s)
         self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
+        self.verifier = verifier
         self._batch_ids: list[int] = []
         self._in_flight: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []  # due, receiver id, sender id, payload
         self._in_flight_count = 0
@@ -118,10 +121,21 @@ class RadioRelay:
         self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids)}
         self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in vehicle_ids], dtype=np.int64)
 
-    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float) -> NeighbourState | None:
-        """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``."""
+    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float, now_us: int = 0) -> NeighbourState | None:
+        """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``.
+
+        With a ``verifier`` a state must carry the tag of the vehicle whose key it came on, checked against the wall
+        clock ``now_us`` [µs since the epoch] (a forged state with a huge ``seq`` cannot silence a genuine sender);
+        the signed payload is forwarded whole, so every receiver checks it again."""
         self.counters.messages_in += 1
-        state = decode(NeighbourState, payload, self.stats)
+        if self.verifier is None:
+            body = unsigned_body(payload)
+        else:
+            body = self.verifier.check(payload, -1 if key_vehicle_id is None else key_vehicle_id, now_us).body
+            if body is None:
+                self.counters.rejected += 1
+                return None
+        state = decode(NeighbourState, body, self.stats)
         ground_id_taken = self.ground_node_enu_m is not None and state is not None and state.sender_id == GROUND_NODE_ID
         if state is None or state.sender_id != key_vehicle_id or ground_id_taken:
             self.counters.rejected += 1
@@ -270,6 +284,8 @@ class RadioEmulatorConfig:
     """Mission time from the truth stream, and each truth acknowledged (a paced simulation clock)."""
     ground_node_enu_m: tuple[float, float, float] | None = None
     """The ground station's antenna [m; mission ENU] when it is a radio node (its inbox is ``radio/0/inbox``)."""
+    key: MissionKey | None = None
+    """The mission key: states without a valid tag are not relayed (None: relayed unchecked)."""
 
 
 class RadioEmulator:
@@ -284,7 +300,8 @@ class RadioEmulator:
         self._own_session = session is None
         self.session = ZenohSession(config.zenoh) if session is None else session
         self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed,
-                                ground_node_enu_m=config.ground_node_enu_m)
+                                ground_node_enu_m=config.ground_node_enu_m,
+                                verifier=None if config.key is None else Verifier(config.key))
         self.bundles_out = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -351,7 +368,7 @@ class RadioEmulator:
                             relay.on_truth(truth)
                 for item in items:
                     if item.key != keys.truth and item.kind == "put":
-                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s)
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s, wall_clock_us())
                 t_s = relay.truth_t_s or 0.0
                 for receiver, entries in relay.pop_due(time.monotonic()).items():
                     session.put(keys.inbox(receiver), encode(RadioBundle(t_s=t_s, entries=entries)))
@@ -374,7 +391,7 @@ class RadioEmulator:
                 sent_at_s = relay.truth_t_s or 0.0
                 for item in items:
                     if item.key != keys.truth and item.kind == "put":
-                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s)
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s, wall_clock_us())
                 truth = None
                 for item in items:
                     if item.key == keys.truth:

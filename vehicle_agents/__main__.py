@@ -22,7 +22,9 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from comms.key_file import KEY_FILE_NAME, KeyFileError, read_key_file
 from comms.keys import KeyNameError, validate_mission
+from comms.signing import MissionKey
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.zenoh_session import ZenohOpenError
 from mission_plan.control_params import MODES
@@ -59,6 +61,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rate-hz", type=float, help="control rate in mission time (default: the plan's)")
     p.add_argument("--connect-timeout", type=float, default=30.0, help="wall seconds to wait for the autopilot")
     p.add_argument("--link-timeout", type=float, default=2.0, help="wall seconds of autopilot silence = vehicle lost")
+    p.add_argument("--key-file", type=Path, metavar="FILE",
+                   help=f"the mission key (default: {KEY_FILE_NAME} beside the --plan file)")
     p.add_argument("--log-level", default="INFO")
     add_zenoh_arguments(p)
     return p
@@ -118,6 +122,16 @@ def config_from_args(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
     return config, mission, url
 
 
+def mission_key(args: argparse.Namespace) -> MissionKey:
+    """The key that signs this drone's states and checks the ground station's commands: ``--key-file``, or the
+    one delivered with the plan."""
+    if args.key_file is not None:
+        return read_key_file(args.key_file)
+    if args.plan is None:
+        raise KeyFileError("--key-file: required without --plan (the mission key comes with the plan)")
+    return read_key_file(args.plan.parent / KEY_FILE_NAME)
+
+
 def _make_link(kind: str, url: str, control_rate_hz: float):  # noqa: ANN202 - returns an AutopilotLink
     """The MAVLink library's link; MAVSDK asks for the local position at the control rate, no faster."""
     if kind == "pymavlink":
@@ -142,13 +156,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         config, mission, url = config_from_args(args)
         zenoh = zenoh_config_from_args(args)
-    except (ScenarioError, PlanFileError, KeyNameError, ValueError) as exc:
+        key = mission_key(args)
+    except (ScenarioError, PlanFileError, KeyNameError, KeyFileError, ValueError) as exc:
         print(f"vehicle_agents: {exc}", file=sys.stderr)
         return EXIT_USAGE
     from vehicle_agents.swarm_link_zenoh import ZenohSwarmLink
 
     try:
-        swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio")
+        swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio",
+                               key=key)
     except ZenohOpenError as exc:
         print(f"vehicle_agents: vehicle {config.vehicle_id}: {exc}", file=sys.stderr)
         return EXIT_START_FAILED
@@ -160,8 +176,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(
         "vehicle %d exits with %d: %d control steps (%.1f Hz mission time), %d overruns, %d frames processed, "
-        "%d frames missed", config.vehicle_id, code, stats.control_steps, stats.control_rate_hz(),
-        stats.overruns, stats.frames_processed, stats.frames_dropped)
+        "%d frames missed; dropped for their tag: %d commands, %d states", config.vehicle_id, code,
+        stats.control_steps, stats.control_rate_hz(), stats.overruns, stats.frames_processed, stats.frames_dropped,
+        swarm.command_verifier.dropped_total(), 0 if swarm.link.verifier is None else swarm.link.verifier.dropped_total())
     return code
 
 

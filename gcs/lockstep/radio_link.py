@@ -7,10 +7,16 @@ it (range on TRUE positions, seeded loss by the message's own ``seq``, as the ra
 jitter; bursts on the message's own time stamp; each sender's byte budget), so what only travels on the wire (the
 ring radius in ``extras``, the subsampled edge points) reaches the control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
 as it does on the public state keys.
+
+Each broadcast is also signed and checked once as on Zenoh (:mod:`comms.signing`; the sender is the drone, the
+timestamp its mission time in microseconds), so both engines pay the same per-message cost and a message the
+check refused would be dropped alike. Nobody else can reach this in-memory radio, so its key is a random one of
+this run; it never changes what is delivered.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 
 import numpy as np
@@ -19,6 +25,7 @@ from numpy.typing import NDArray
 from comms.byte_budget import SenderBudgets
 from comms.messages import DecodeStats, NeighbourState, decode, encode
 from comms.radio_model import RadioModel
+from comms.signing import KEY_BYTES, MissionKey, Signer, Verifier
 from vehicle_agents.core.neighbours import Inbox
 
 
@@ -29,6 +36,9 @@ class InMemoryRadio:
         self.model = model
         self.vehicle_ids = np.asarray(vehicle_ids, dtype=np.int64)
         self.stats = DecodeStats()
+        key = MissionKey(os.urandom(KEY_BYTES))
+        self._signers = {int(vid): Signer(key, int(vid)) for vid in self.vehicle_ids}
+        self.verifier = Verifier(key)
         self._round = 0
         self._sent: dict[int, list[NeighbourState | None]] = {}
         self._pending_t = np.zeros(0)
@@ -51,9 +61,11 @@ class InMemoryRadio:
             if message is None:
                 decoded.append(None)
                 continue
-            payload = encode(message)
+            t_us = round(t_s * 1e6)
+            payload = self._signers[message.sender_id].sign(encode(message), t_us)
             self.bytes_sent += len(payload)
-            state = decode(NeighbourState, payload, self.stats)
+            body = self.verifier.check(payload, message.sender_id, t_us).body
+            state = None if body is None else decode(NeighbourState, body, self.stats)
             decoded.append(state)
             if state is not None and self.budgets.admit(int(self.vehicle_ids[i]), len(payload), state.t_s):
                 on_air.append(i)

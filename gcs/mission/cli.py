@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
+from comms.key_file import KeyFileError, read_key_file
 from gcs.dashboard.cli_checks import check_dashboard_args
 from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
@@ -54,6 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="where hydrodynamic flood runs are cached (default: the user's cache directory); "
                              "every process started inherits it")
     parser.add_argument("--no-live", dest="live", action="store_false", help="no live terminal view")
+    parser.add_argument("--key-file", type=Path, default=None, metavar="FILE",
+                        help="mission key that signs commands and states (default: a new one in <out>/plan/mission.key)")
     map_args = parser.add_argument_group("live map in a browser (processes engine)")
     map_args.add_argument("--dashboard-port", type=int, default=8080, metavar="N",
                           help="port of the live map (default 8080; when busy a free one, printed; 0: any free one)")
@@ -93,6 +96,11 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         _fail(f"--clock {ns.clock}: only the processes engine has a clock to choose (lockstep is one loop)")
     if ns.backend is not None and ns.engine != "lockstep":
         _fail(f"--backend {ns.backend}: only the lockstep engine has a choice (processes fly the mock PX4 fleet)")
+    if ns.key_file is not None:
+        try:
+            read_key_file(ns.key_file)
+        except KeyFileError as exc:
+            _fail(f"--key-file: {exc}")
     check_dashboard_args(ns.dashboard_port, ns.dashboard_token, ns.tiles, _fail)
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
     if ns.cache_dir is not None:
@@ -101,7 +109,7 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
         backend=ns.backend or "kinematic", clock=ns.clock or "paced", agent_timeout_s=ns.agent_timeout_s,
-        strict=ns.strict, dashboard_port=ns.dashboard_port if ns.dashboard else None,
+        strict=ns.strict, key_file=ns.key_file, dashboard_port=ns.dashboard_port if ns.dashboard else None,
         dashboard_host=ns.dashboard_host, dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
     )
 

@@ -56,7 +56,9 @@ from comms.messages import (
     flood_polygon_from_enu,
 )
 from comms.radio_model import GROUND_NODE_ID
-from comms.swarm_link import SwarmLink, bundle_unpacker
+from comms.key_file import KeyFileError, read_key_file
+from comms.signing import MissionKey, Verifier
+from comms.swarm_link import SwarmLink, bundle_unpacker, wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from gcs.dashboard.gcs_link import GcsDashboardLink, start_dashboard_process
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage
@@ -65,6 +67,7 @@ from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
 from gcs.processes.event_log import EventLog
 from gcs.processes.host_capacity import agent_niceness, estimate_capacity
+from gcs.processes.intrusion_watch import IntrusionWatch
 from gcs.plan.files import write_plans
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
@@ -157,6 +160,9 @@ class GroundStation:
         self._exited_agents: set[int] = set()
         self._silent_vehicles: set[int] = set()
         self._command_seq = 0
+        self.mission_key: MissionKey | None = None
+        self._node_verifier: Verifier | None = None
+        self.intrusions: IntrusionWatch | None = None
         self._next_polygon_t_s = 0.0
         self.dashboard: GcsDashboardLink | None = None
         self._grid = CoverageGrid.around(*_flood_box(self.flood, self.duration_s), max_cells_per_side=100)
@@ -232,10 +238,14 @@ class GroundStation:
 
     def _start_children(self) -> None:
         opts = self.options
-        plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission)
+        try:
+            plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission, opts.key_file)
+            self.mission_key = read_key_file(plans.key)
+        except KeyFileError as exc:
+            raise MissionFailed(str(exc)) from None
         self.services["sim"] = self.supervisor.start("sim", sim_command(opts, plans.fleet))
         self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, plans.cameras))
-        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
+        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission, plans.key))
         self._agent_plans = plans.agents
         self._agents_to_start = [v.vehicle_id for v in self.scenario.vehicles]
         self._write_pids()
@@ -273,7 +283,9 @@ class GroundStation:
         truth_buf = hub.subscribe(self.keys.truth)
         pace_buf = hub.subscribe(self.keys.pace_report)
         hub.subscribe(self.keys.camera_stats, pace_buf)
-        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
+        assert self.mission_key is not None
+        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs", key=self.mission_key, audit=True)
+        self.intrusions = IntrusionWatch(hub, self.keys, self.mission_key, self.events, lambda: self.mission_t_s)
         node_buf = None if self.radio_node is None else hub.subscribe(
             self.keys.inbox(GROUND_NODE_ID), LatestValueBuffer(), unpack=bundle_unpacker(self.keys))
         started_wall_s = time.monotonic()
@@ -301,6 +313,7 @@ class GroundStation:
                 self._poll_swarm(link)
                 if node_buf is not None:
                     self._poll_radio_node(node_buf)
+                self.intrusions.poll(now_wall_s)
                 self._poll_pace(pace_buf)
                 clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
                 self._check_children()
@@ -369,7 +382,8 @@ class GroundStation:
         self._command_seq += 1
         msg = MissionCommand(seq=self._command_seq, t_s=self.mission_t_s, command=command,  # type: ignore[arg-type]
                              phase=self.phase, flood_clock_start_t_s=self.flood_clock_start_s)
-        hub.put(self.keys.command, encode(msg))
+        assert self.intrusions is not None
+        hub.put(self.keys.command, self.intrusions.sign_command(encode(msg)))
 
     def _check_clock_moves(self, seen: tuple[float, float], now_wall_s: float) -> tuple[float, float]:
         """Fail the run when the mission clock has stood still for :data:`CLOCK_STALL_WALL_S` in flight."""
@@ -412,6 +426,8 @@ class GroundStation:
 
     def _poll_swarm(self, link: SwarmLink) -> None:
         update = link.poll()
+        if self.intrusions is not None:
+            self.intrusions.observe_states(update.rejected)
         for state in update.states:
             old = self.states.get(state.sender_id)
             if old is None or state.seq > old.seq:
@@ -526,9 +542,18 @@ class GroundStation:
         self.recorder.add(truth.t_s - (self.flood_clock_start_s or 0.0), positions, velocities, sides, alive)
 
     def _poll_radio_node(self, buffer: LatestValueBuffer) -> None:
-        assert self.radio_node is not None
-        states = [s for item in buffer.drain() if item.kind == "put"
-                  for s in [decode(NeighbourState, item.payload)] if s is not None]
+        assert self.radio_node is not None and self.mission_key is not None
+        if self._node_verifier is None:
+            self._node_verifier = Verifier(self.mission_key)
+        now_us = wall_clock_us()
+        states = []
+        for item in buffer.drain():
+            if item.kind != "put":
+                continue
+            body = self._node_verifier.check(item.payload, self.keys.vehicle_id_of(item.key), now_us).body
+            state = None if body is None else decode(NeighbourState, body)
+            if state is not None:
+                states.append(state)
         self.radio_node.hear(states, self.mission_t_s)
 
     def _polygon(self, hub: ZenohSession, flood_t_s: float) -> None:

@@ -47,6 +47,8 @@ class ProcessOptions:
     strict: bool = False
     """A degraded engine (rates not held, agents left behind) fails the run (exit 1)."""
     extra_agent_args: tuple[str, ...] = field(default=())
+    key_file: Path | None = None
+    """The mission key to use (copied into the plan folder); None: a new one per mission."""
     dashboard_port: int | None = None
     """The live map's port (0: any free one; busy: a free one); None: no live map (``--no-dashboard``)."""
     dashboard_host: str = "127.0.0.1"
@@ -74,7 +76,8 @@ def cameras_command(options: ProcessOptions, plan: Path) -> list[str]:
     return ["mock_autopilot.sim_bridge.cameras", "--plan", str(plan), "--connect", options.zenoh_endpoint]
 
 
-def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> list[str]:
+def radio_command(options: ProcessOptions, scenario: Scenario, mission: str, key_file: Path) -> list[str]:
+    """The radio emulator, which relays only states signed with the mission key in ``key_file``."""
     radio = scenario.radio
     return [
         "comms.radio", "--mission", mission, "--range-m", f"{radio.range_m:g}", "--loss", f"{radio.loss:g}",
@@ -85,6 +88,7 @@ def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> 
         "--bandwidth-bytes-per-s", f"{radio.bandwidth_bytes_per_s:g}",
         *ground_node_args(scenario),
         "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, "--clock", options.clock,
+        "--key-file", str(key_file),
     ]
 
 

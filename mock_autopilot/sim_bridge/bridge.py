@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 
 from comms.keys import MissionKeys
 from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, encode
+from comms.signing import unsigned_body
 from comms.zenoh_session import ZenohSession
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
@@ -137,8 +138,10 @@ class CameraStreamer:
         return 0.0 if self.flood_clock_start_s is None else max(0.0, now_s - self.flood_clock_start_s)
 
     def follow_commands(self) -> None:
+        """The flood clock's start from the ground station's command. The simulated world holds no mission key
+        (it has no counterpart on a real mission), so it reads the command without checking its tag."""
         for item in self._commands.drain():
-            msg = decode(MissionCommand, item.payload)
+            msg = decode(MissionCommand, unsigned_body(item.payload))
             if msg is not None and msg.flood_clock_start_t_s is not None and self.flood_clock_start_s is None:
                 self.flood_clock_start_s = msg.flood_clock_start_t_s
                 if self._on_flood_start is not None:
