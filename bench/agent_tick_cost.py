@@ -274,6 +274,7 @@ def main() -> int:
     p.add_argument("--speed", type=float, default=1.0)
     p.add_argument("--duration", type=float, default=30.0)
     p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
+    p.add_argument("--clock", choices=("paced", "free"), default="paced")
     p.add_argument("--no-gdb", action="store_true", help="do not label MAVSDK's unnamed threads with gdb")
     p.add_argument("--out", type=Path, default=Path("runs/bench-agent-tick"))
     p.add_argument("--mavsdk-streams", action="store_true", help="MAVSDK's own cost per telemetry profile instead")
@@ -292,7 +293,7 @@ def main() -> int:
         return 0
     from bench.mission_processes import run_once  # noqa: PLC0415 - heavy (the ground station) and CLI-only
     row = run_once(args.scenario, tuple(args.overrides), args.speed, args.duration, args.out, args.mode,
-                   gdb_labels=not args.no_gdb)
+                   gdb_labels=not args.no_gdb, clock=args.clock)
     print(json.dumps(row), flush=True)
     for title, key in (("median over agents", "agent_ms_per_tick_by_thread"),
                        ("reference agent, gdb labels", "reference_agent_ms_per_tick_by_thread")):

@@ -112,6 +112,46 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
         return bool(self.flags & flag)
 
 
+class NeighbourStateForControl(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
+    """The part of a :class:`NeighbourState` a drone's control laws and neighbour table read, decoded from the same
+    bytes: what an agent needs of every neighbour it hears, ~10 per control tick.
+
+    The edge points (the ground station's polygon), GPS fix and battery are skipped, not parsed: they are most of a
+    boundary drone's message and most of the time decoding it. The fields kept get the same checks as in
+    :class:`NeighbourState`, so a message either type rejects for them is rejected by both.
+    """
+
+    sender_id: int
+    role: Role
+    seq: int
+    t_s: float
+    position_en_m: Point2
+    altitude_m: float
+    velocity_en_mps: Point2 = (0.0, 0.0)
+    velocity_up_mps: float = 0.0
+    yaw_ned_rad: float = 0.0
+    flags: int = 0
+    group: Group = ""
+    encircle_complete: bool = False
+    extras: dict[str, float] = {}
+
+    def __post_init__(self) -> None:
+        if self.sender_id < 0 or self.seq < 0:
+            raise InvalidMessage("sender_id and seq must be >= 0")
+        p, v = self.position_en_m, self.velocity_en_mps
+        if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):
+            raise InvalidMessage("non-finite state")
+        if self.extras and not math.isfinite(sum(self.extras.values())):
+            raise InvalidMessage("non-finite extra")
+
+    def has(self, flag: int) -> bool:
+        return bool(self.flags & flag)
+
+
+HeardState = Union[NeighbourState, NeighbourStateForControl]
+"""A neighbour's state as a receiver decoded it: whole (ground station, lockstep radio) or the control part (agent)."""
+
+
 class CameraFrame(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/camera/1"):
     """One downward camera image as a companion computer would receive it (SPEC §3), with its pose metadata.
 
@@ -346,12 +386,13 @@ class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature")
 
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
                 SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon]
-M = TypeVar("M", NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
+M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
             SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
 MAX_PAYLOAD_BYTES: dict[type, int] = {
     NeighbourState: 16 * 1024,
+    NeighbourStateForControl: 16 * 1024,
     CameraFrame: 4 * 1024 * 1024,
     BoundaryEdgePoints: 256 * 1024,
     GroundTruth: 4 * 1024 * 1024,

@@ -21,7 +21,17 @@ import msgspec
 
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
-from comms.messages import DecodeStats, NeighbourState, PeerEvent, RadioBundle, decode, decode_stats, encode
+from comms.messages import (
+    DecodeStats,
+    HeardState,
+    NeighbourState,
+    NeighbourStateForControl,
+    PeerEvent,
+    RadioBundle,
+    decode,
+    decode_stats,
+    encode,
+)
 from comms.neighbour_table import NeighbourEvent, NeighbourTable
 from comms.zenoh_session import ZenohSession
 
@@ -50,7 +60,7 @@ class FeedUpdate:
     """What arrived since the last poll: decoded neighbour states (newest per sender) and liveliness changes
     (vehicle ids whose token appeared / vanished; services such as ``gcs`` are in ``services_*``)."""
 
-    states: list[NeighbourState] = field(default_factory=list)
+    states: list[HeardState] = field(default_factory=list)
     alive: list[int] = field(default_factory=list)
     dead: list[int] = field(default_factory=list)
     services_alive: list[str] = field(default_factory=list)
@@ -69,11 +79,13 @@ class SwarmLink:
         via_radio: bool,
         participant: str | None = None,
         stats: DecodeStats | None = None,
+        state_type: type[NeighbourState] | type[NeighbourStateForControl] = NeighbourState,
     ) -> None:
         """Subscribe (inbox or public states, plus liveliness) and declare this participant's token.
 
         ``participant`` names the liveliness token (default: the vehicle id; e.g. ``"gcs"`` for the ground station;
-        no token when both are None). ``via_radio`` needs a ``vehicle_id``.
+        no token when both are None). ``via_radio`` needs a ``vehicle_id``. ``state_type``: what neighbour states
+        are decoded into (an agent's control laws need only :class:`NeighbourStateForControl`).
         """
         if via_radio and vehicle_id is None:
             raise ValueError("via_radio needs the receiving vehicle's id")
@@ -82,6 +94,8 @@ class SwarmLink:
         self.vehicle_id = vehicle_id
         self.via_radio = via_radio
         self.stats = decode_stats if stats is None else stats
+        self.state_type = state_type
+        self._sender_of_key: dict[str, int | None] = {}
         self.buffer = LatestValueBuffer()
         self.rejected_spoofed = 0
         if via_radio:
@@ -116,16 +130,24 @@ class SwarmLink:
                 continue
             if item.kind != "put":
                 continue
-            state = decode(NeighbourState, item.payload, self.stats)
+            state = decode(self.state_type, item.payload, self.stats)
             if state is None:
                 continue
-            if self.keys.vehicle_id_of(item.key) != state.sender_id:
+            if self._sender_of(item.key) != state.sender_id:
                 self.rejected_spoofed += 1
                 continue
             if state.sender_id == self.vehicle_id:
                 continue
             update.states.append(state)
         return update
+
+    def _sender_of(self, key: str) -> int | None:
+        """The vehicle id in a state key, parsed once per key (the same few keys arrive every tick)."""
+        if key not in self._sender_of_key:
+            if len(self._sender_of_key) >= 4096:
+                self._sender_of_key.clear()
+            self._sender_of_key[key] = self.keys.vehicle_id_of(key)
+        return self._sender_of_key[key]
 
     def wait(self, timeout_s: float | None = None) -> bool:
         """Block (a non-Zenoh thread) until something arrives; True if there is something to poll."""

@@ -10,7 +10,7 @@ liveliness changes); the core keeps the table. Camera frames and commands come t
 from __future__ import annotations
 
 from comms.keys import MissionKeys
-from comms.messages import CameraFrame, MissionCommand, NeighbourState, decode
+from comms.messages import CameraFrame, MissionCommand, NeighbourState, NeighbourStateForControl, decode
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohSession
 from vehicle_agents.core.neighbours import Inbox
@@ -25,7 +25,8 @@ class ZenohSwarmLink:
         self.session = ZenohSession(zenoh)
         self._camera = self.session.subscribe(self.keys.camera(vehicle_id))
         self._command_buf = self.session.subscribe(self.keys.command)
-        self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio)
+        self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio,
+                              state_type=NeighbourStateForControl)
         self._frame: CameraFrame | None = None
         self._command: MissionCommand | None = None
 
