@@ -94,17 +94,10 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     extras: dict[str, float] = {}
 
     def __post_init__(self) -> None:
-        if self.sender_id < 0 or self.seq < 0:
-            raise InvalidMessage("sender_id and seq must be >= 0")
-        # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
-        p, v = self.position_en_m, self.velocity_en_mps
-        if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):
-            raise InvalidMessage("non-finite state")
+        _check_state(self)
         for optional in (self.lat_deg, self.lon_deg, self.battery_fraction):
             if optional is not None and not math.isfinite(optional):
                 raise InvalidMessage("non-finite optional field (send None instead)")
-        if self.extras and not math.isfinite(sum(self.extras.values())):
-            raise InvalidMessage("non-finite extra")
         if self.edge_points_en_m and not _finite_points(self.edge_points_en_m):
             raise InvalidMessage("non-finite edge point")
 
@@ -136,16 +129,22 @@ class NeighbourStateForControl(msgspec.Struct, frozen=True, omit_defaults=True, 
     extras: dict[str, float] = {}
 
     def __post_init__(self) -> None:
-        if self.sender_id < 0 or self.seq < 0:
-            raise InvalidMessage("sender_id and seq must be >= 0")
-        p, v = self.position_en_m, self.velocity_en_mps
-        if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):
-            raise InvalidMessage("non-finite state")
-        if self.extras and not math.isfinite(sum(self.extras.values())):
-            raise InvalidMessage("non-finite extra")
+        _check_state(self)
 
     def has(self, flag: int) -> bool:
         return bool(self.flags & flag)
+
+
+def _check_state(msg: NeighbourState | NeighbourStateForControl) -> None:
+    """The checks both decodings of a state message make on the fields they share; raises InvalidMessage."""
+    if msg.sender_id < 0 or msg.seq < 0:
+        raise InvalidMessage("sender_id and seq must be >= 0")
+    # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
+    p, v = msg.position_en_m, msg.velocity_en_mps
+    if not math.isfinite(msg.t_s + p[0] + p[1] + msg.altitude_m + v[0] + v[1] + msg.velocity_up_mps + msg.yaw_ned_rad):
+        raise InvalidMessage("non-finite state")
+    if msg.extras and not math.isfinite(sum(msg.extras.values())):
+        raise InvalidMessage("non-finite extra")
 
 
 HeardState = Union[NeighbourState, NeighbourStateForControl]
