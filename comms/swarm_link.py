@@ -33,12 +33,9 @@ from comms.messages import (
     encode,
 )
 from comms.neighbour_table import NeighbourEvent, NeighbourTable
-from comms.zenoh_session import PolledSubscription, ZenohSession
+from comms.zenoh_session import ZenohSession
 
 _bundle_decoder = msgspec.msgpack.Decoder(RadioBundle)
-_INBOX_BUNDLES_HELD = 256
-"""Radio bundles a polled inbox holds between two polls (the free-running radio delivers every 5 ms: ~10 per
-control tick); beyond it the oldest are dropped, and their states were superseded by then."""
 _PEER_EVENT = {"joined": "alive", "alive": "alive", "rejoined": "rejoined", "stale": "stale", "dead": "dead", "left": "dead"}
 
 
@@ -83,15 +80,12 @@ class SwarmLink:
         participant: str | None = None,
         stats: DecodeStats | None = None,
         state_type: type[NeighbourState] | type[NeighbourStateForControl] = NeighbourState,
-        polled_inbox: bool = False,
     ) -> None:
         """Subscribe (inbox or public states, plus liveliness) and declare this participant's token.
 
         ``participant`` names the liveliness token (default: the vehicle id; e.g. ``"gcs"`` for the ground station;
         no token when both are None). ``via_radio`` needs a ``vehicle_id``. ``state_type``: what neighbour states
-        are decoded into (an agent's control laws need only :class:`NeighbourStateForControl`). ``polled_inbox``:
-        radio bundles wait inside Zenoh until :meth:`poll` (no Python on Zenoh's thread per bundle; for a reader
-        that polls every control tick).
+        are decoded into (an agent's control laws need only :class:`NeighbourStateForControl`).
         """
         if via_radio and vehicle_id is None:
             raise ValueError("via_radio needs the receiving vehicle's id")
@@ -104,12 +98,7 @@ class SwarmLink:
         self._sender_of_key: dict[str, int | None] = {}
         self.buffer = LatestValueBuffer()
         self.rejected_spoofed = 0
-        self._inbox: PolledSubscription | None = None
-        if via_radio and polled_inbox:
-            assert vehicle_id is not None
-            self._inbox = session.subscribe_polled(keys.inbox(vehicle_id), self.buffer, unpack=bundle_unpacker(keys),
-                                                   capacity=_INBOX_BUNDLES_HELD)
-        elif via_radio:
+        if via_radio:
             assert vehicle_id is not None
             session.subscribe(keys.inbox(vehicle_id), self.buffer, unpack=bundle_unpacker(keys))
         else:
@@ -127,8 +116,6 @@ class SwarmLink:
 
     def poll(self) -> FeedUpdate:
         """Everything pending, decoded; never blocks. States whose key id differs from sender_id are dropped."""
-        if self._inbox is not None:
-            self._inbox.pull()
         update = FeedUpdate()
         alive_prefix = self.keys.prefix + "/alive/"
         for item in self.buffer.drain():

@@ -214,45 +214,22 @@ class ZenohSession:
         buf = LatestValueBuffer() if buffer is None else buffer
 
         def on_sample(sample: zenoh.Sample) -> None:
-            self._store(sample, buf, unpack, max_payload_bytes)
+            try:
+                if len(sample.payload) > max_payload_bytes:
+                    self.oversized_samples += 1
+                    return
+                key = str(sample.key_expr)
+                payload = sample.payload.to_bytes()
+                kind = "delete" if sample.kind == zenoh.SampleKind.DELETE else "put"
+                if unpack is None:
+                    buf.put(key, payload, kind)
+                else:
+                    buf.put_many(unpack(key, payload), kind)
+            except Exception:
+                self.callback_errors += 1
 
         self._declare(lambda: self._session.declare_subscriber(key_expr, _direct(on_sample)))
         return buf
-
-    def subscribe_polled(
-        self,
-        key_expr: str,
-        buffer: LatestValueBuffer | None = None,
-        unpack: Unpack | None = None,
-        capacity: int = 64,
-        max_payload_bytes: int = MAX_SAMPLE_BYTES,
-    ) -> PolledSubscription:
-        """Like :meth:`subscribe`, for a consumer that reads at its own pace (an agent, once per control tick): the
-        samples wait inside Zenoh, in a ring of ``capacity`` that drops the oldest when full, until
-        :meth:`PolledSubscription.pull` moves them into ``buffer`` on the consumer's thread. No Python runs on Zenoh's
-        thread per sample, so there is no GIL hand-over per sample; a sample's ``rx_monotonic_s`` is its pull time.
-        """
-        subscription = PolledSubscription(self, LatestValueBuffer() if buffer is None else buffer, unpack,
-                                          max_payload_bytes)
-        self._declare(lambda: subscription.attach(self._session.declare_subscriber(
-            key_expr, zenoh.handlers.RingChannel(capacity))))
-        return subscription
-
-    def _store(self, sample: zenoh.Sample, buf: LatestValueBuffer, unpack: Unpack | None, max_payload_bytes: int) -> None:
-        """One sample into ``buf`` (split by ``unpack``); never raises: oversized and failed samples are counted."""
-        try:
-            if len(sample.payload) > max_payload_bytes:
-                self.oversized_samples += 1
-                return
-            key = str(sample.key_expr)
-            payload = sample.payload.to_bytes()
-            kind = "delete" if sample.kind == zenoh.SampleKind.DELETE else "put"
-            if unpack is None:
-                buf.put(key, payload, kind)
-            else:
-                buf.put_many(unpack(key, payload), kind)
-        except Exception:
-            self.callback_errors += 1
 
     # ---- liveliness
     def declare_alive(self, key: str) -> None:
@@ -311,36 +288,6 @@ class ZenohSession:
         except Exception:
             pass
         _open_sessions.discard(self)
-
-
-class PolledSubscription:
-    """A subscriber whose samples Zenoh holds until :meth:`pull` (see :meth:`ZenohSession.subscribe_polled`)."""
-
-    def __init__(self, session: ZenohSession, buffer: LatestValueBuffer, unpack: Unpack | None,
-                 max_payload_bytes: int) -> None:
-        self.buffer = buffer
-        self._session = session
-        self._unpack = unpack
-        self._max_payload_bytes = max_payload_bytes
-        self._subscriber: Any = None
-
-    def attach(self, subscriber: Any) -> Any:
-        """Take the declared Zenoh subscriber (the session undeclares it on close); returns it."""
-        self._subscriber = subscriber
-        return subscriber
-
-    def pull(self) -> LatestValueBuffer:
-        """Move every sample waiting in Zenoh into the buffer, newest per key as a callback would have; returns the
-        buffer. After the session closed there is nothing more to pull."""
-        while not self._session.closed:
-            try:
-                sample = self._subscriber.try_recv()
-            except Exception:  # the subscriber was undeclared meanwhile (session closing)
-                break
-            if sample is None:
-                break
-            self._session._store(sample, self.buffer, self._unpack, self._max_payload_bytes)
-        return self.buffer
 
 
 def wait_for_peers(session: ZenohSession, key_expr: str, count: int, timeout_s: float = 10.0) -> bool:

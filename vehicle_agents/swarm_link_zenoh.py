@@ -4,8 +4,7 @@ Neighbours come through :class:`comms.swarm_link.SwarmLink`: through the radio e
 simulation (``via_radio=True``: range, loss and delay decided on true positions), or straight from every drone's
 public state key on real hardware where the radio itself limits range (``via_radio=False``). Nothing else changes.
 What arrives is handed to the onboard core as an :class:`~vehicle_agents.core.neighbours.Inbox` (states and
-liveliness changes); the core keeps the table. Camera frames and commands come through latest-value buffers. All
-three wait inside Zenoh until the control loop pulls them, once per tick (``subscribe_polled``).
+liveliness changes); the core keeps the table. Camera frames and commands come through latest-value buffers.
 """
 
 from __future__ import annotations
@@ -24,16 +23,15 @@ class ZenohSwarmLink:
         self.vehicle_id = vehicle_id
         self.keys = MissionKeys(mission)
         self.session = ZenohSession(zenoh)
-        # Read once per control tick: the samples wait inside Zenoh until then (no Python on Zenoh's thread).
-        self._camera = self.session.subscribe_polled(self.keys.camera(vehicle_id), capacity=1)
-        self._commands = self.session.subscribe_polled(self.keys.command, capacity=16)
+        self._camera = self.session.subscribe(self.keys.camera(vehicle_id))
+        self._command_buf = self.session.subscribe(self.keys.command)
         self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio,
-                              state_type=NeighbourStateForControl, polled_inbox=True)
+                              state_type=NeighbourStateForControl)
         self._frame: CameraFrame | None = None
         self._command: MissionCommand | None = None
 
     def latest_frame(self) -> CameraFrame | None:
-        for item in self._camera.pull().drain():
+        for item in self._camera.drain():
             frame = decode(CameraFrame, item.payload)
             if frame is not None and frame.vehicle_id == self.vehicle_id:
                 self._frame = frame
@@ -44,7 +42,7 @@ class ZenohSwarmLink:
         return Inbox(states=update.states, departed_ids=update.dead, returned_ids=update.alive)
 
     def latest_command(self) -> MissionCommand | None:
-        for item in self._commands.pull().drain():
+        for item in self._command_buf.drain():
             msg = decode(MissionCommand, item.payload)
             if msg is not None and (self._command is None or msg.seq >= self._command.seq):
                 self._command = msg

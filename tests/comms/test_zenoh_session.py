@@ -15,7 +15,7 @@ import pytest
 
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
-from comms.messages import DecodeStats, NeighbourState, RadioBundle, encode
+from comms.messages import DecodeStats, NeighbourState, encode
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 
@@ -270,24 +270,3 @@ def test_sessions_run_on_the_lean_zenoh_runtime_without_shared_memory(free_endpo
 def test_zenoh_runtime_from_the_environment_wins(free_endpoint: Callable[[], str]) -> None:
     names = _zenoh_threads_after_exchange(free_endpoint(), env_runtime="()")
     assert "rx-0" in names and "rx-1" in names, names
-
-
-def test_polled_subscriptions_hold_samples_in_zenoh_until_pulled(free_endpoint: Callable[[], str]) -> None:
-    hub_ep = free_endpoint()
-    keys = MissionKeys("zs9")
-    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as agent_session:
-        link = SwarmLink(agent_session, keys, 1, via_radio=True, polled_inbox=True)
-        newest_only = agent_session.subscribe_polled(keys.camera(1), capacity=1)
-        time.sleep(0.5)
-        bundle = RadioBundle(t_s=1.0, entries=[(2, encode(_state(2, 1))), (3, encode(_state(3, 1)))])
-        hub.put(keys.inbox(1), encode(bundle))
-        hub.put(keys.inbox(1), encode(RadioBundle(t_s=1.05, entries=[(2, encode(_state(2, 2)))])))
-        for seq in range(3):
-            hub.put(keys.camera(1), bytes([seq]))
-        time.sleep(0.3)
-        assert len(newest_only.buffer) == 0  # nothing ran on Zenoh's thread: the frames wait in Zenoh
-        states: list[NeighbourState] = []
-        assert _until(lambda: bool(states.extend(link.poll().states) or len(states) >= 2))
-        assert sorted((s.sender_id, s.seq) for s in states) == [(2, 2), (3, 1)]  # newest per sender
-        assert [r.payload for r in newest_only.pull().drain()] == [bytes([2])]  # the ring kept the newest
-    assert newest_only.pull().drain() == []  # after close: nothing to pull, no error
