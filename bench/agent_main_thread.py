@@ -159,9 +159,6 @@ class _MemorySession:
         self.buffers[key] = self._buffer_type() if buffer is None else buffer
         return self.buffers[key]
 
-    def subscribe_polled(self, key: str, buffer: object = None, unpack: object = None, **_: object) -> object:
-        return _Pulled(self.subscribe(key, buffer))
-
     def subscribe_alive(self, key: str, buffer: object = None, history: bool = True) -> object:
         return self.subscribe(key, buffer)
 
@@ -170,14 +167,6 @@ class _MemorySession:
 
     def put(self, key: str, payload: bytes) -> None:
         self.sent.append(payload)
-
-
-@dataclasses.dataclass
-class _Pulled:
-    buffer: object
-
-    def pull(self) -> object:
-        return self.buffer
 
 
 def _agent_swarm_link(session: _MemorySession, mission: str, vid: int) -> object:
