@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
+from types import MappingProxyType
 from typing import Any
 
 from mission_plan.roles import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLES
@@ -127,7 +128,7 @@ class ControlParams:
     @cached_property
     def rank_of(self) -> Mapping[int, int]:
         """Vehicle id -> departure rank, for every roster entry (the control laws look ranks up every step)."""
-        return {e.vehicle_id: e.rank for e in self.roster}
+        return MappingProxyType({e.vehicle_id: e.rank for e in self.roster})
 
     # The roster never changes (the parameters are frozen), and the laws ask for these every step of every drone:
     # computed once per parameter set (a cached_property keeps them out of the fields, equality and the plan files).
