@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from comms.frames import GeodeticHome, enu_to_geodetic
+from comms.gcs_status import FloodEdgeTruth, MissionEvent, OperatorRequest, VehicleStatusReport
 
 Role = Literal["boundary", "leader", "follower"]
 Group = Literal["A", "B", ""]
@@ -384,9 +385,11 @@ class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature")
 
 
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
-                SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon]
+                SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport, MissionEvent,
+                OperatorRequest, FloodEdgeTruth]
 M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
-            SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon)
+            SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport, MissionEvent, OperatorRequest,
+            FloodEdgeTruth)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
 MAX_PAYLOAD_BYTES: dict[type, int] = {
@@ -404,6 +407,10 @@ MAX_PAYLOAD_BYTES: dict[type, int] = {
     PaceReport: 1024 * 1024,
     CameraStats: 1024,
     FloodPolygon: 16 * 1024 * 1024,
+    VehicleStatusReport: 4 * 1024 * 1024,
+    MissionEvent: 16 * 1024,
+    OperatorRequest: 1024,
+    FloodEdgeTruth: 4 * 1024 * 1024,
 }
 
 KINDS: dict[str, type] = {cls.__name__: cls for cls in MAX_PAYLOAD_BYTES}

@@ -57,6 +57,7 @@ from comms.messages import (
 )
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
+from gcs.dashboard.gcs_link import GcsDashboardLink, start_dashboard_process
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage
 from gcs.metrics.polygon_quality import polygon_iou
 from gcs.mission_record import PolygonSample
@@ -151,6 +152,7 @@ class GroundStation:
         self._silent_vehicles: set[int] = set()
         self._command_seq = 0
         self._next_polygon_t_s = 0.0
+        self.dashboard: GcsDashboardLink | None = None
         self._grid = CoverageGrid.around(*_flood_box(self.flood, self.duration_s), max_cells_per_side=100)
 
     # ------------------------------------------------------------------ life cycle
@@ -170,6 +172,9 @@ class GroundStation:
                         f"duration {self.duration_s:g} s, output {self.out_dir}")
             self._warn_if_host_too_small()
             hub = self._open_hub()
+            self.dashboard = GcsDashboardLink(self, hub, lambda command: self._command(hub, command),
+                                              vehicle_lost_after_s(self.options.speed))
+            start_dashboard_process(self)
             watcher = MavlinkWatcher(self.out_dir, self.events)
             try:
                 await watcher.open("127.0.0.1", self.options.gcs_port)
@@ -290,6 +295,8 @@ class GroundStation:
                 clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
                 self._check_children()
                 self._check_vehicles(watcher, now_wall_s)
+                if self.dashboard is not None:
+                    self.dashboard.tick(watcher, now_wall_s)
                 if self.phase == "starting":
                     self._start_agents()
                     if self._everyone_up(watcher):
@@ -323,7 +330,8 @@ class GroundStation:
                         await asyncio.sleep(max(0.2, 2 * tick_s))
                         return EXIT_OK
                 if now_wall_s >= next_command_s and self.phase in ("takeoff", "mission"):
-                    self._command(hub, "start" if self.phase == "mission" else "phase")
+                    default = "start" if self.phase == "mission" else "phase"
+                    self._command(hub, self.dashboard.command_for(default) if self.dashboard else default)
                     next_command_s = now_wall_s + _COMMAND_REPEAT_S
                 if now_wall_s >= next_snapshot_s and len(self.recorder):
                     self.recorder.save_snapshot(self.out_dir / "record.npz")

@@ -44,6 +44,13 @@ class ProcessOptions:
     strict: bool = False
     """A degraded engine (rates not held, agents left behind) fails the run (exit 1)."""
     extra_agent_args: tuple[str, ...] = field(default=())
+    dashboard_port: int | None = None
+    """The live map's port (0: any free one; busy: a free one); None: no live map (``--no-dashboard``)."""
+    dashboard_host: str = "127.0.0.1"
+    dashboard_token: str | None = None
+    """Operator commands from the live map need this token; without one the map is read-only."""
+    dashboard_tiles: Path | None = None
+    """A local MBTiles or PMTiles file served as the live map's base layer."""
     sim_faults: tuple[str, ...] = field(default=())
     """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
 
