@@ -44,7 +44,7 @@ class LatestValueBuffer:
         self.max_keys = max_keys
         self._pending: dict[str, Received] = {}
         self._cond = threading.Condition(threading.Lock())
-        self._async_waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Event]] = []
+        self._async_waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Future[None]]] = []
         self.received = 0
         self.superseded = 0
         self.rejected = 0
@@ -62,7 +62,7 @@ class LatestValueBuffer:
                  source: str = "") -> None:
         """Store several (key, payload) samples at once (one lock, one wake-up): used for radio bundles."""
         t = time.monotonic() if rx_monotonic_s is None else rx_monotonic_s
-        waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Event]] = []
+        waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Future[None]]] = []
         with self._cond:
             pending = self._pending
             for key, payload in items:
@@ -76,9 +76,9 @@ class LatestValueBuffer:
             self._cond.notify_all()
             if self._async_waiters:
                 waiters, self._async_waiters = self._async_waiters, []
-        for loop, event in waiters:
+        for loop, waiter in waiters:
             try:
-                loop.call_soon_threadsafe(event.set)
+                loop.call_soon_threadsafe(_wake, waiter)
             except RuntimeError:  # the loop was closed meanwhile: nobody is waiting any more
                 pass
 
@@ -98,19 +98,26 @@ class LatestValueBuffer:
             return bool(self._pending)
 
     async def wait_async(self, timeout_s: float | None = None) -> bool:
-        """The asyncio twin of ``wait``: awaits without blocking the event loop; True if something is pending."""
-        event = asyncio.Event()
+        """The asyncio twin of ``wait``: awaits without blocking the event loop; True if something is pending.
+
+        One future and one timer per wait (an agent waits once per control tick): ``asyncio.wait_for`` on an
+        ``asyncio.Event`` would add a task and its steps every time.
+        """
         loop = asyncio.get_running_loop()
+        waiter: asyncio.Future[None] = loop.create_future()
         with self._cond:
             if self._pending:
                 return True
-            self._async_waiters.append((loop, event))
+            self._async_waiters.append((loop, waiter))
+        timer = None if timeout_s is None else loop.call_later(timeout_s, _wake, waiter)
         try:
-            await asyncio.wait_for(event.wait(), timeout_s)
-        except asyncio.TimeoutError:
+            await waiter
+        finally:
+            if timer is not None:
+                timer.cancel()
             with self._cond:
-                if (loop, event) in self._async_waiters:
-                    self._async_waiters.remove((loop, event))
+                if (loop, waiter) in self._async_waiters:
+                    self._async_waiters.remove((loop, waiter))
         with self._cond:
             return bool(self._pending)
 
@@ -119,8 +126,14 @@ class LatestValueBuffer:
         with self._cond:
             self._cond.notify_all()
             waiters, self._async_waiters = self._async_waiters, []
-        for loop, event in waiters:
+        for loop, waiter in waiters:
             try:
-                loop.call_soon_threadsafe(event.set)
+                loop.call_soon_threadsafe(_wake, waiter)
             except RuntimeError:
                 pass
+
+
+def _wake(waiter: asyncio.Future[None]) -> None:
+    """Resolve a waiter once (a put and its timeout may both get there)."""
+    if not waiter.done():
+        waiter.set_result(None)

@@ -29,7 +29,17 @@ import msgspec
 
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
-from comms.messages import DecodeStats, NeighbourState, PeerEvent, RadioBundle, decode, decode_stats, encode
+from comms.messages import (
+    DecodeStats,
+    HeardState,
+    NeighbourState,
+    NeighbourStateForControl,
+    PeerEvent,
+    RadioBundle,
+    decode,
+    decode_stats,
+    encode,
+)
 from comms.neighbour_table import NeighbourEvent, NeighbourTable
 from comms.signing import MissionKey, Rejection, Signer, Verifier
 from comms.zenoh_session import ZenohSession
@@ -90,7 +100,7 @@ class FeedUpdate:
     """What arrived since the last poll: decoded neighbour states (newest per sender) and liveliness changes
     (vehicle ids whose token appeared / vanished; services such as ``gcs`` are in ``services_*``)."""
 
-    states: list[NeighbourState] = field(default_factory=list)
+    states: list[HeardState] = field(default_factory=list)
     alive: list[int] = field(default_factory=list)
     dead: list[int] = field(default_factory=list)
     services_alive: list[str] = field(default_factory=list)
@@ -112,12 +122,14 @@ class SwarmLink:
         stats: DecodeStats | None = None,
         key: MissionKey | None = None,
         audit: bool = False,
+        state_type: type[NeighbourState] | type[NeighbourStateForControl] = NeighbourState,
     ) -> None:
         """Subscribe (inbox or public states, plus liveliness) and declare this participant's token.
 
         ``participant`` names the liveliness token (default: the vehicle id; e.g. ``"gcs"`` for the ground station;
         no token when both are None). ``via_radio`` needs a ``vehicle_id``. Without ``key`` states travel unsigned
-        (read-only tools and tests of the transport); every mission process passes one.
+        (read-only tools and tests of the transport); every mission process passes one. ``state_type``: what neighbour
+        states are decoded into (an agent's control laws need only :class:`NeighbourStateForControl`).
         """
         if via_radio and vehicle_id is None:
             raise ValueError("via_radio needs the receiving vehicle's id")
@@ -126,6 +138,8 @@ class SwarmLink:
         self.vehicle_id = vehicle_id
         self.via_radio = via_radio
         self.stats = decode_stats if stats is None else stats
+        self.state_type = state_type
+        self._sender_of_key: dict[str, int | None] = {}
         self.buffer = LatestValueBuffer(max_keys=AUDIT_MAX_PENDING if audit else 4096)
         self.rejected_spoofed = 0
         self.signer = None if key is None or vehicle_id is None else Signer(key, vehicle_id)
@@ -166,7 +180,7 @@ class SwarmLink:
                 continue
             if item.kind != "put":
                 continue
-            key_id = self.keys.vehicle_id_of(item.key)
+            key_id = self._sender_of(item.key.partition("#")[0])
             payload = item.payload
             if verifier is not None:
                 verdict = verifier.check(payload, -1 if key_id is None else key_id, now_us)
@@ -176,7 +190,7 @@ class SwarmLink:
                                                            item.source))
                     continue
                 payload = verdict.body
-            state = decode(NeighbourState, payload, self.stats)
+            state = decode(self.state_type, payload, self.stats)
             if state is None:
                 continue
             if key_id != state.sender_id:
@@ -186,6 +200,14 @@ class SwarmLink:
                 continue
             update.states.append(state)
         return update
+
+    def _sender_of(self, key: str) -> int | None:
+        """The vehicle id in a state key, parsed once per key (the same few keys arrive every tick)."""
+        if key not in self._sender_of_key:
+            if len(self._sender_of_key) >= 4096:
+                self._sender_of_key.clear()
+            self._sender_of_key[key] = self.keys.vehicle_id_of(key)
+        return self._sender_of_key[key]
 
     def wait(self, timeout_s: float | None = None) -> bool:
         """Block (a non-Zenoh thread) until something arrives; True if there is something to poll."""

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
 from typing import Any
 
 from mission_plan.roles import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLES
@@ -142,11 +144,26 @@ class ControlParams:
         Group B leaves clockwise and group A counter-clockwise from the launch site, so going counter-clockwise from
         B's leading drone one meets B's ranks 0..n, A's ranks n..0, and then B's leader again.
         """
+        return self._ring_order
+
+    def followers(self) -> tuple[RosterEntry, ...]:
+        return self._followers
+
+    @cached_property
+    def rank_of(self) -> Mapping[int, int]:
+        """Vehicle id -> departure rank, for every roster entry (the control laws look ranks up every step)."""
+        return MappingProxyType({e.vehicle_id: e.rank for e in self.roster})
+
+    # The roster never changes (the parameters are frozen), and the laws ask for these every step of every drone:
+    # computed once per parameter set (a cached_property keeps them out of the fields, equality and the plan files).
+    @cached_property
+    def _ring_order(self) -> tuple[int, ...]:
         b = sorted((e for e in self.roster if e.role == ROLE_BOUNDARY and e.group == "B"), key=lambda e: e.rank)
         a = sorted((e for e in self.roster if e.role == ROLE_BOUNDARY and e.group == "A"), key=lambda e: -e.rank)
         return tuple(e.vehicle_id for e in (*b, *a))
 
-    def followers(self) -> tuple[RosterEntry, ...]:
+    @cached_property
+    def _followers(self) -> tuple[RosterEntry, ...]:
         return tuple(e for e in self.roster if e.role == ROLE_FOLLOWER)
 
 

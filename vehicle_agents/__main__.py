@@ -22,6 +22,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+import cv2
+
 from comms.key_file import KEY_FILE_NAME, KeyFileError, read_key_file
 from comms.keys import KeyNameError, validate_mission
 from comms.signing import MissionKey
@@ -132,15 +134,19 @@ def mission_key(args: argparse.Namespace) -> MissionKey:
     return read_key_file(args.plan.parent / KEY_FILE_NAME)
 
 
-def _make_link(kind: str, url: str, control_rate_hz: float):  # noqa: ANN202 - returns an AutopilotLink
-    """The MAVLink library's link; MAVSDK asks for the local position at the control rate, no faster."""
+def _make_link(kind: str, url: str, control_rate_hz: float, has_gps: bool):  # noqa: ANN202 - an AutopilotLink
+    """The MAVLink library's link; MAVSDK asks for the local position at the control rate, no faster, and for the
+    global position (GLOBAL_POSITION_INT) only on a drone with GPS, the only one whose state message carries it."""
     if kind == "pymavlink":
         from vehicle_agents.autopilot_link_pymavlink import PymavlinkAutopilotLink
 
         return PymavlinkAutopilotLink(url)
     from vehicle_agents.autopilot_link_mavsdk import TELEMETRY_RATES_HZ, MavsdkAutopilotLink
 
-    return MavsdkAutopilotLink(url, {**TELEMETRY_RATES_HZ, "position_velocity_ned": control_rate_hz})
+    rates_hz = {**TELEMETRY_RATES_HZ, "position_velocity_ned": control_rate_hz}
+    if not has_gps:
+        rates_hz["position"] = -1.0
+    return MavsdkAutopilotLink(url, rates_hz)
 
 
 async def _run(agent: Agent) -> int:
@@ -152,6 +158,7 @@ async def _run(agent: Agent) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    cv2.setNumThreads(1)  # one small frame at a time: OpenCV's worker pool would only add thread wake-ups
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
         config, mission, url = config_from_args(args)
@@ -164,14 +171,14 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     try:
         swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio",
-                               key=key)
+                               key=key, relays=config.params.relay_max_hops > 0)
     except ZenohOpenError as exc:
         print(f"vehicle_agents: vehicle {config.vehicle_id}: {exc}", file=sys.stderr)
         return EXIT_START_FAILED
     from vehicle_agents.sim_clock_link import SimClockLink
 
     sim_clock = SimClockLink(swarm.session, swarm.keys, config.vehicle_id)
-    agent = Agent(config, _make_link(args.link, url, config.control_rate_hz), swarm, sim_clock)
+    agent = Agent(config, _make_link(args.link, url, config.control_rate_hz, config.has_gps), swarm, sim_clock)
     code = asyncio.run(_run(agent))
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(

@@ -12,7 +12,7 @@ signed, newer than the last one accepted, are obeyed; the rest are dropped and c
 from __future__ import annotations
 
 from comms.keys import MissionKeys
-from comms.messages import CameraFrame, MissionCommand, NeighbourState, decode
+from comms.messages import CameraFrame, MissionCommand, NeighbourState, NeighbourStateForControl, decode
 from comms.signing import GROUND_STATION, MissionKey, Verifier
 from comms.swarm_link import SwarmLink, wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohSession
@@ -22,13 +22,17 @@ from vehicle_agents.core.neighbours import Inbox
 class ZenohSwarmLink:
     """A :class:`~vehicle_agents.swarm_port.SwarmPort` over one Zenoh session."""
 
-    def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool, key: MissionKey) -> None:
+    def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool, key: MissionKey,
+                 relays: bool = False) -> None:
+        """``relays``: this drone forwards what it hears (multi-hop), so neighbour states are decoded whole, relayed
+        copies and edge points included; otherwise only the fields the control laws read."""
         self.vehicle_id = vehicle_id
         self.keys = MissionKeys(mission)
         self.session = ZenohSession(zenoh)
         self._camera = self.session.subscribe(self.keys.camera(vehicle_id))
         self._command_buf = self.session.subscribe(self.keys.command)
-        self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio, key=key)
+        self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio, key=key,
+                              state_type=NeighbourState if relays else NeighbourStateForControl)
         self.command_verifier = Verifier(key)
         self._frame: CameraFrame | None = None
         self._command: MissionCommand | None = None

@@ -19,7 +19,7 @@ import msgspec
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.messages import NeighbourState
+from comms.messages import HeardState, NeighbourState
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
@@ -93,7 +93,7 @@ class OnboardState:
 
     phases: tuple[Phase, ...]
     memories: tuple[ControlMemory, ...]
-    heard: tuple[Mapping[int, NeighbourState], ...]
+    heard: tuple[Mapping[int, HeardState], ...]
     departed: tuple[frozenset[int], ...]
     seq: tuple[int, ...]
     tracks: tuple[TrackBank, ...] = ()
