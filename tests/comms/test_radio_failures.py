@@ -13,6 +13,7 @@ from comms.byte_budget import SenderBudgets, admit
 from comms.messages import GroundTruth, NeighbourState, encode
 from comms.radio_emulator import RadioRelay
 from comms.radio_model import RadioModel, radio_model_of
+from comms.signing import KEY_BYTES, MissionKey, sign
 from gcs.lockstep.radio_link import InMemoryRadio
 from mission_plan.scenario_schema import RadioSpec, scenario_from_table
 from mission_plan.scenarios import SCENARIO_DIR
@@ -101,6 +102,7 @@ def test_both_engines_give_the_same_fate_with_bursts_distance_and_a_byte_budget(
     positions = np.array([[0.0, 0.0, 10.0], [12.0, 0.0, 10.0], [0.0, 27.0, 10.0]])
     lockstep = InMemoryRadio(model, ids)
     relay = RadioRelay(model)
+    key = MissionKey(bytes(KEY_BYTES))
     lock_fates: set[tuple[int, int, int]] = set()
     relay_fates: set[tuple[int, int, int]] = set()
     for k in range(200):
@@ -110,8 +112,8 @@ def test_both_engines_give_the_same_fate_with_bursts_distance_and_a_byte_budget(
         for receiver, inbox in zip(ids, lockstep.deliver(t_s)):
             lock_fates |= {(m.sender_id, receiver, m.seq) for m in inbox.states}
         relay.on_truth(GroundTruth(t_s=t_s, vehicle_ids=ids, positions_enu_m=[tuple(p) for p in positions]))
-        for v, m in zip(ids, messages):
-            relay.on_state(v, encode(m), t_s)
+        for v, m in zip(ids, messages):  # signed as every mission process sends them: the budget counts the tag
+            relay.on_state(v, sign(key, encode(m), v, round(t_s * 1e6)), t_s)
         for receiver, entries in relay.pop_due(t_s).items():
             relay_fates |= {(sender, receiver, k + 1) for sender, _ in entries}
     assert lock_fates == relay_fates
