@@ -28,6 +28,7 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 from comms.gcs_status import OperatorCommand
 from gcs.dashboard.broadcast import FrameBroadcast
 from gcs.dashboard.downloads import polygon_geojson, polygon_kml
+from gcs.dashboard.feed import OperatorKeyMissing
 from gcs.dashboard.model import DashboardModel
 from gcs.dashboard.ports import is_loopback
 from gcs.dashboard.tiles import TileArchive
@@ -152,7 +153,11 @@ def create_app(settings: AppSettings, model: DashboardModel, broadcast: FrameBro
             log.warning("operator %s from %s refused: %s token", name, _origin(request),
                         "no" if not given else "wrong")
             return _error(401, "operator commands need the dashboard token (Authorization: Bearer <token>)")
-        commands.request(order, _origin(request))
+        try:
+            commands.request(order, _origin(request))
+        except OperatorKeyMissing as exc:
+            log.warning("operator %s from %s not sent: %s", name, _origin(request), exc)
+            return _error(503, f"cannot sign the request: {exc}")
         log.warning("operator %s from %s: sent to the ground station", name, _origin(request))
         return JSONResponse({"accepted": name}, status_code=202)
 

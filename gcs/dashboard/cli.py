@@ -35,6 +35,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"operator token for hold / resume / land-all (default: ${TOKEN_ENV}; none: read-only)")
     parser.add_argument("--tiles", type=Path, default=None, metavar="FILE",
                         help="local raster MBTiles or PMTiles file as base map")
+    parser.add_argument("--key-file", type=Path, default=None, metavar="FILE",
+                        help="the mission key (mode 0600) that signs operator requests; without it: read-only")
     add_zenoh_arguments(parser)
     parser.set_defaults(zenoh_mode="client")
     return parser
@@ -59,7 +61,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:
         fail(f"--host {args.host}: {exc}")
     options = ServerOptions(mission=args.mission, zenoh=zenoh, host=args.host, port=port, token=token,
-                            tiles=args.tiles)
+                            tiles=args.tiles, key_file=args.key_file)
     if not is_loopback(args.host):
         print(f"gcs.dashboard: warning: listening on {args.host}, reachable from other machines"
               f"{'' if token else ' (read-only: no token)'}", file=sys.stderr)

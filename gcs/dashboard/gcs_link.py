@@ -23,7 +23,10 @@ from comms.gcs_status import (
     VehicleStatusReport,
 )
 from comms.latest_buffer import LatestValueBuffer
+from comms.key_file import KEY_FILE_NAME
 from comms.messages import FLAG_LEAVING, FloodEdgeTruth, decode, encode
+from comms.signing import GROUND_STATION, Verifier
+from comms.swarm_link import wall_clock_us
 from comms.zenoh_session import ZenohSession
 from gcs.dashboard.alerts import ring_gaps, uncovered_edge_m
 from gcs.dashboard.event_kinds import classify
@@ -71,6 +74,8 @@ class GcsDashboardLink:
         self._active_alerts: dict[tuple[str, int], str] = {}
         self.order: OperatorCommand | None = None
         self.errors = 0
+        self.refused_requests = 0
+        self._request_verifier: Verifier | None = None
         scenario = station.scenario
         self._unseen_min_m = UNSEEN_FRACTION_OF_FOOTPRINT * 2.0 * scenario.altitude_m * math.tan(
             math.radians(scenario.camera.fov_deg) / 2.0)
@@ -115,11 +120,12 @@ class GcsDashboardLink:
         return command_for(default, self.order)
 
     def _take_requests(self) -> None:
+        station = self._station
         for item in self._requests.drain():
-            request = decode(OperatorRequest, item.payload)
+            body = self._verified(item.payload)
+            request = None if body is None else decode(OperatorRequest, body)
             if request is None:
                 continue
-            station = self._station
             new_order = next_order(self.order, request.command)
             origin = f" from {request.origin}" if request.origin else ""
             if new_order == self.order and request.command is not OperatorCommand.RESUME:
@@ -130,6 +136,25 @@ class GcsDashboardLink:
             station.events(f"operator {request.command.value} requested{origin}: standing order {state}")
             if station.phase in ("takeoff", "mission"):
                 self._send_command(self.command_for("start" if station.phase == "mission" else "phase"))
+
+    def _verified(self, payload: bytes) -> bytes | None:
+        """The request's body when the mission key signed it as the ground station (the dashboard holds the key),
+        else None, counted and raised as a security event: whoever reaches Zenoh must not land the fleet through
+        the operator key either."""
+        key = getattr(self._station, "mission_key", None)
+        if key is not None and self._request_verifier is None:
+            self._request_verifier = Verifier(key)
+        if self._request_verifier is None:
+            reason = "no mission key yet"
+        else:
+            verdict = self._request_verifier.check(payload, GROUND_STATION, wall_clock_us())
+            if verdict.body is not None:
+                return verdict.body
+            reason = verdict.reason.value if verdict.reason is not None else "refused"
+        self.refused_requests += 1
+        self._station.events(f"SECURITY: operator request dropped ({reason}): not signed with the mission key "
+                             f"({self.refused_requests} so far)")
+        return None
 
     def _report(self, watcher: MavlinkWatcher, now_wall_s: float) -> VehicleStatusReport:
         station = self._station
@@ -206,6 +231,7 @@ def start_dashboard_process(station: GroundStation) -> str | None:
     port = choose_port(host, options.dashboard_port)
     args = ["gcs.dashboard", "--mission", station.mission, "--connect", options.zenoh_endpoint, "--host", host,
             "--port", str(port)]
+    args += ["--key-file", str((station.out_dir / "plan" / KEY_FILE_NAME).resolve())]
     if options.dashboard_tiles is not None:
         args += ["--tiles", str(options.dashboard_tiles)]
     station.supervisor.start("dashboard", args, env={TOKEN_ENV: options.dashboard_token or ""})

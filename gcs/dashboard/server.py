@@ -37,6 +37,7 @@ class ServerOptions:
     port: int
     token: str | None = None
     tiles: Path | None = None
+    key_file: Path | None = None
 
 
 async def _pump(feed: DashboardFeed, model: DashboardModel, broadcast: FrameBroadcast) -> None:
@@ -60,7 +61,7 @@ async def serve(options: ServerOptions) -> None:
     tiles = TileArchive(options.tiles) if options.tiles is not None else None
     feed: DashboardFeed | None = None
     try:
-        feed = DashboardFeed(options.mission, options.zenoh)
+        feed = DashboardFeed(options.mission, options.zenoh, options.key_file)
         model = DashboardModel(options.mission)
         broadcast = FrameBroadcast()
         settings = AppSettings(mission=options.mission, host=options.host, token=options.token, tiles=tiles)

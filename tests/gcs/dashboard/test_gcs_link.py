@@ -7,6 +7,8 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from comms.gcs_status import EventKind, MissionEvent, OperatorCommand, OperatorRequest
+from comms.signing import GROUND_STATION, KEY_BYTES, MissionKey, Signer
+from comms.swarm_link import wall_clock_us
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import decode, encode
@@ -28,10 +30,18 @@ class RecordingHub:
         return buffer
 
 
+_KEY = MissionKey(bytes(range(KEY_BYTES)))
+
+
+def _signed(request: OperatorRequest, key: MissionKey = _KEY) -> bytes:
+    return Signer(key, GROUND_STATION).sign(encode(request), wall_clock_us())
+
+
 def _link(tmp_path: Path, phase: str = "mission") -> tuple[GcsDashboardLink, RecordingHub, list[str], EventLog]:
     keys = MissionKeys("unit")
     events = EventLog(tmp_path / "events.log", lambda: 12.5)
-    station = SimpleNamespace(keys=keys, events=events, phase=phase, scenario=load_scenario("circle", []))
+    station = SimpleNamespace(keys=keys, events=events, phase=phase, scenario=load_scenario("circle", []),
+                              mission_key=_KEY)
     hub = RecordingHub()
     sent: list[str] = []
     return GcsDashboardLink(station, hub, sent.append, 2.0), hub, sent, events  # type: ignore[arg-type]
@@ -51,14 +61,27 @@ def test_every_event_log_line_is_published_with_its_kind(tmp_path: Path) -> None
 def test_an_operator_hold_stands_is_logged_and_is_what_the_station_repeats_until_resumed(tmp_path: Path) -> None:
     link, hub, sent, events = _link(tmp_path)
     requests = hub.buffers[MissionKeys("unit").operator]
-    requests.put("k", encode(OperatorRequest(seq=1, wall_s=0.0, command=OperatorCommand.HOLD, origin="here")))
+    requests.put("k", _signed(OperatorRequest(seq=1, wall_s=0.0, command=OperatorCommand.HOLD, origin="here")))
     link._take_requests()
     assert sent == ["hold"] and link.command_for("start") == "hold"
     requests.put("k", b"garbage")
-    requests.put("k2", encode(OperatorRequest(seq=2, wall_s=0.0, command=OperatorCommand.RESUME, origin="here")))
+    requests.put("k2", _signed(OperatorRequest(seq=2, wall_s=0.0, command=OperatorCommand.RESUME, origin="here")))
     link._take_requests()
     assert sent == ["hold", "start"] and link.command_for("start") == "start"
     events.close()
     log = (tmp_path / "events.log").read_text()
     assert "operator hold requested from here: standing order hold" in log
     assert "operator resume requested from here" in log
+
+
+def test_an_operator_request_not_signed_with_the_mission_key_is_dropped_and_reported(tmp_path: Path) -> None:
+    link, hub, sent, events = _link(tmp_path)
+    requests = hub.buffers[MissionKeys("unit").operator]
+    land = OperatorRequest(seq=1, wall_s=0.0, command=OperatorCommand.LAND, origin="intruder")
+    requests.put("k", encode(land))
+    requests.put("k2", _signed(land, MissionKey(bytes(KEY_BYTES))))
+    link._take_requests()
+    assert sent == [] and link.order is None and link.refused_requests == 2
+    events.close()
+    log = (tmp_path / "events.log").read_text()
+    assert log.count("SECURITY: operator request dropped") == 2 and "operator land requested" not in log
