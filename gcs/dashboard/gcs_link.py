@@ -141,9 +141,8 @@ class GcsDashboardLink:
         """The request's body when the mission key signed it as the ground station (the dashboard holds the key),
         else None, counted and raised as a security event: whoever reaches Zenoh must not land the fleet through
         the operator key either."""
-        key = getattr(self._station, "mission_key", None)
-        if key is not None and self._request_verifier is None:
-            self._request_verifier = Verifier(key)
+        if self._request_verifier is None and self._station.mission_key is not None:
+            self._request_verifier = Verifier(self._station.mission_key)
         if self._request_verifier is None:
             reason = "no mission key yet"
         else:

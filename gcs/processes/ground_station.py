@@ -55,8 +55,8 @@ from comms.messages import (
     encode,
     flood_polygon_from_enu,
 )
-from comms.radio_model import GROUND_NODE_ID
 from comms.key_file import KeyFileError, read_key_file
+from comms.radio_model import GROUND_NODE_ID
 from comms.signing import MissionKey, Verifier
 from comms.swarm_link import SwarmLink, bundle_unpacker, wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
