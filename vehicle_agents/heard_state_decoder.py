@@ -1,0 +1,136 @@
+"""An agent's decoding of the neighbour states it hears, each relayed copy decoded once however many carry it.
+
+With relaying on (improved mode), every state message carries copies of the states its sender heard (multi-hop
+knowledge, :mod:`vehicle_agents.core.relay`), and a drone hearing a dozen neighbours receives the same copies many
+times over: every neighbour relays the same few origins' newest states, and keeps relaying them for a few ticks.
+In ``circle`` a message carries ~5 copies with their edge points (~3 kB), and only about one copy in six a drone
+receives is one it has not already received byte for byte in this tick or the previous one. Decoding each whole
+message decodes and validates all of them again: most of an agent's decoding time.
+
+:class:`HeardStateDecoder` decodes a message's own fields with the copies left as raw bytes, decodes each copy's
+bytes once (with every check :class:`~comms.messages.NeighbourState` makes) and remembers it for two polls, then
+builds the :class:`~comms.messages.NeighbourState`, whose own checks run as in a whole decode. Equal bytes decode
+to equal states, so the result is the whole decode's; a message is dropped and counted when the whole decode would
+drop it (the reason of a bad copy is the copy's).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import msgspec
+
+from comms.messages import (
+    MAX_EDGE_POINTS,
+    MAX_PAYLOAD_BYTES,
+    MAX_RELAYED,
+    DecodeStats,
+    Group,
+    InvalidMessage,
+    NeighbourState,
+    Point2,
+    Role,
+    decode_with_reason,
+)
+
+_KIND = NeighbourState.__name__
+_LIMIT_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
+
+
+class _StateWithRawCopies(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
+    """:class:`~comms.messages.NeighbourState`'s wire layout, field for field, with the relayed copies undecoded."""
+
+    sender_id: int
+    role: Role
+    seq: int
+    t_s: float
+    position_en_m: Point2
+    altitude_m: float
+    velocity_en_mps: Point2 = (0.0, 0.0)
+    velocity_up_mps: float = 0.0
+    yaw_ned_rad: float = 0.0
+    lat_deg: float | None = None
+    lon_deg: float | None = None
+    flags: int = 0
+    battery_fraction: float | None = None
+    group: Group = ""
+    encircle_complete: bool = False
+    edge_points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=MAX_EDGE_POINTS)] = []
+    extras: dict[str, float] = {}
+    hops: int = 0
+    relayed: Annotated[list[msgspec.Raw], msgspec.Meta(max_length=MAX_RELAYED)] = []
+
+
+_outer_decoder = msgspec.msgpack.Decoder(_StateWithRawCopies)
+_FIELDS = _StateWithRawCopies.__struct_fields__
+_WIRE_DEFAULTS = dict(zip(_FIELDS[len(_FIELDS) - len(_StateWithRawCopies.__struct_defaults__):],
+                          _StateWithRawCopies.__struct_defaults__))
+
+
+def _given_fields(wire: _StateWithRawCopies) -> dict[str, object]:
+    """The fields the message carried: a field it left out holds the default object itself, and is left out here so
+    that the state gets its own default object, as in a whole decode (``omit_defaults`` encodes by identity)."""
+    return {name: value for name in _FIELDS
+            if (value := getattr(wire, name)) is not _WIRE_DEFAULTS.get(name, _FIELDS)}
+
+
+class HeardStateDecoder:
+    """Decodes state messages into :class:`~comms.messages.NeighbourState`, copies shared across messages.
+
+    Call :meth:`next_poll` once per poll of the inbox: copies decoded in this poll and the previous one are reused.
+    Not thread-safe (one per consuming thread, like the poll it serves).
+    """
+
+    def __init__(self) -> None:
+        self._copies: dict[bytes, NeighbourState] = {}
+        self._previous: dict[bytes, NeighbourState] = {}
+        self.copies_decoded = 0
+        self.copies_reused = 0
+
+    def next_poll(self) -> None:
+        """Forget the copies of the poll before the previous one (a copy is relayed for a few ticks at most)."""
+        self._previous, self._copies = self._copies, {}
+
+    def decode(self, payload: bytes | memoryview, stats: DecodeStats) -> NeighbourState | None:
+        """The state in ``payload``, or None (counted in ``stats`` under the reason) when it does not pass."""
+        if len(payload) > _LIMIT_BYTES:
+            stats.count_drop(_KIND, "oversized")
+            return None
+        try:
+            wire = _outer_decoder.decode(payload)
+        except Exception:  # msgspec.DecodeError / ValidationError: let the whole decode name the reason
+            return decode_with_reason(NeighbourState, payload, stats)[0]
+        copies: list[NeighbourState] = []
+        for raw in wire.relayed:
+            copy = self._copy(bytes(raw), stats)
+            if copy is None:
+                return None
+            copies.append(copy)
+        fields = _given_fields(wire)
+        if copies:
+            fields["relayed"] = copies
+        try:
+            state = NeighbourState(**fields)
+        except InvalidMessage:
+            stats.count_drop(_KIND, "invalid")
+            return None
+        stats.count_ok(_KIND)
+        return state
+
+    def _copy(self, raw: bytes, stats: DecodeStats) -> NeighbourState | None:
+        copy = self._copies.get(raw)
+        if copy is not None:
+            self.copies_reused += 1
+            return copy
+        copy = self._previous.get(raw)
+        if copy is None:
+            scratch = DecodeStats()
+            copy, reason = decode_with_reason(NeighbourState, raw, scratch)
+            if copy is None:
+                stats.count_drop(_KIND, reason or "malformed")
+                return None
+            self.copies_decoded += 1
+        else:
+            self.copies_reused += 1
+        self._copies[raw] = copy
+        return copy
