@@ -67,11 +67,19 @@ _WIRE_DEFAULTS = dict(zip(_FIELDS[len(_FIELDS) - len(_StateWithRawCopies.__struc
                           _StateWithRawCopies.__struct_defaults__))
 
 
+_SHARED_DEFAULTS = tuple((name, default) for name, default in _WIRE_DEFAULTS.items()
+                         if not isinstance(default, (list, dict)))
+"""The defaults a decoder hands out as one shared object (the containers are fresh for each message)."""
+
+
 def _given_fields(wire: _StateWithRawCopies) -> dict[str, object]:
-    """The fields the message carried: a field it left out holds the default object itself, and is left out here so
-    that the state gets its own default object, as in a whole decode (``omit_defaults`` encodes by identity)."""
-    return {name: value for name in _FIELDS
-            if (value := getattr(wire, name)) is not _WIRE_DEFAULTS.get(name, _FIELDS)}
+    """The fields the message carried: a field it left out holds the shared default object itself, and is left out
+    here so that the state gets its own default, as in a whole decode (``omit_defaults`` encodes by identity)."""
+    fields = msgspec.structs.asdict(wire)
+    for name, default in _SHARED_DEFAULTS:
+        if fields[name] is default:
+            del fields[name]
+    return fields
 
 
 class HeardStateDecoder:
