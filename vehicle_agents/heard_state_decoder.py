@@ -16,63 +16,40 @@ drop it (the reason of a bad copy is the copy's).
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 import msgspec
 
-from comms.messages import (
-    MAX_EDGE_POINTS,
-    MAX_PAYLOAD_BYTES,
-    MAX_RELAYED,
-    DecodeStats,
-    Group,
-    InvalidMessage,
-    NeighbourState,
-    Point2,
-    Role,
-    decode_with_reason,
-)
+from comms.messages import MAX_PAYLOAD_BYTES, MAX_RELAYED, DecodeStats, InvalidMessage, NeighbourState, decode_with_reason
 
 _KIND = NeighbourState.__name__
 _LIMIT_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
 
 
-class _StateWithRawCopies(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
-    """:class:`~comms.messages.NeighbourState`'s wire layout, field for field, with the relayed copies undecoded."""
+def _field(info: msgspec.structs.FieldInfo) -> tuple[str, object] | tuple[str, object, object]:
+    """One field of the mirror: as in :class:`~comms.messages.NeighbourState`, the relayed copies left undecoded."""
+    kind = Annotated[list[msgspec.Raw], msgspec.Meta(max_length=MAX_RELAYED)] if info.name == "relayed" else info.type
+    if info.default is not msgspec.NODEFAULT:
+        return info.name, kind, info.default
+    if info.default_factory is not msgspec.NODEFAULT:
+        return info.name, kind, msgspec.field(default_factory=info.default_factory)
+    return info.name, kind
 
-    sender_id: int
-    role: Role
-    seq: int
-    t_s: float
-    position_en_m: Point2
-    altitude_m: float
-    velocity_en_mps: Point2 = (0.0, 0.0)
-    velocity_up_mps: float = 0.0
-    yaw_ned_rad: float = 0.0
-    lat_deg: float | None = None
-    lon_deg: float | None = None
-    flags: int = 0
-    battery_fraction: float | None = None
-    group: Group = ""
-    encircle_complete: bool = False
-    edge_points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=MAX_EDGE_POINTS)] = []
-    extras: dict[str, float] = {}
-    hops: int = 0
-    relayed: Annotated[list[msgspec.Raw], msgspec.Meta(max_length=MAX_RELAYED)] = []
 
+_CONFIG = NeighbourState.__struct_config__
+_StateWithRawCopies = msgspec.defstruct(
+    "_StateWithRawCopies", [_field(info) for info in msgspec.structs.fields(NeighbourState)],
+    frozen=_CONFIG.frozen, omit_defaults=_CONFIG.omit_defaults, tag_field=_CONFIG.tag_field, tag=_CONFIG.tag)
+""":class:`~comms.messages.NeighbourState`'s wire layout, field for field (made from it, so it follows any change),
+with the relayed copies undecoded."""
 
 _outer_decoder = msgspec.msgpack.Decoder(_StateWithRawCopies)
-_FIELDS = _StateWithRawCopies.__struct_fields__
-_WIRE_DEFAULTS = dict(zip(_FIELDS[len(_FIELDS) - len(_StateWithRawCopies.__struct_defaults__):],
-                          _StateWithRawCopies.__struct_defaults__))
+_SHARED_DEFAULTS = tuple((info.name, info.default) for info in msgspec.structs.fields(_StateWithRawCopies)
+                         if info.default is not msgspec.NODEFAULT)
+"""The defaults a decoder hands out as one shared object (the containers come from factories, fresh each time)."""
 
 
-_SHARED_DEFAULTS = tuple((name, default) for name, default in _WIRE_DEFAULTS.items()
-                         if not isinstance(default, (list, dict)))
-"""The defaults a decoder hands out as one shared object (the containers are fresh for each message)."""
-
-
-def _given_fields(wire: _StateWithRawCopies) -> dict[str, object]:
+def _given_fields(wire: Any) -> dict[str, object]:
     """The fields the message carried: a field it left out holds the shared default object itself, and is left out
     here so that the state gets its own default, as in a whole decode (``omit_defaults`` encodes by identity)."""
     fields = msgspec.structs.asdict(wire)
