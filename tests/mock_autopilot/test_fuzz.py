@@ -16,9 +16,9 @@ os.environ["MAVLINK20"] = "1"
 import pytest
 from pymavlink.dialects.v20 import common as mavlink
 
+from comms.px4 import Px4Mode
 from mock_autopilot.fleet import Fleet
 from mock_autopilot.harness import VehicleHarness
-from mock_autopilot.px4_modes import Px4Mode
 
 NAN, INF = math.nan, math.inf
 

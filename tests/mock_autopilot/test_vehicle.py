@@ -7,11 +7,11 @@ import pytest
 from pymavlink.dialects.v20 import common as mavlink
 
 from comms.frames import GeodeticHome, enu_to_geodetic
+from comms.px4 import LandedState, Px4Mode, custom_mode
 from mock_autopilot.harness import VehicleHarness
-from mock_autopilot.px4_modes import Px4Mode, custom_mode
 from mock_autopilot.px4_params import PARAM_TABLE, ParamType, encode_param_value
 from mock_autopilot.setpoints import MASK_VELOCITY_AND_YAW
-from mock_autopilot.vehicle import LandedState, VehicleConfig
+from mock_autopilot.vehicle import VehicleConfig
 
 ACCEPTED, TEMP_REJECTED, DENIED, UNSUPPORTED = 0, 1, 2, 3
 NAN = math.nan
