@@ -2,12 +2,14 @@
 
 type_mask bits say which fields to IGNORE: x,y,z (1,2,4), vx,vy,vz (8,16,32), ax,ay,az (64,128,256),
 FORCE_SET (512), yaw (1024), yaw_rate (2048). MAVSDK's velocity-with-yaw setpoint is 2503 (positions,
-accelerations and yaw rate ignored).
+accelerations and yaw rate ignored). Bits above 2048 are undefined; PX4 ignores them, and so does the decoder.
 
-Validity follows PX4's position controller input check: every axis needs at least one of position, velocity or
-acceleration; x and y come in pairs for each of them; used fields must be finite. FORCE_SET (force instead of
-acceleration) is not supported by PX4 multicopters and is refused; bits above 2048 are undefined and refused.
-That leaves 7 (xy) x 7 (z) x 4 (yaw) = 196 valid masks out of 4096.
+FORCE_SET (force instead of acceleration) is refused only when an acceleration is used: PX4's receiver
+(mavlink_receiver.cpp) logs "force not supported" for that and nothing else, so a client that sets bit 9 with its
+accelerations ignored flies. Then the position controller's input check: every axis needs at least one of
+position, velocity or acceleration; x and y come in pairs for each of them; used fields must be finite. That leaves
+7 (xy) x 7 (z) x 4 (yaw) = 196 valid masks without FORCE_SET and 3 x 3 x 4 = 36 with it (accelerations ignored):
+232 of the 4096 defined ones.
 
 Frames: LOCAL_NED (absolute, from the vehicle's boot position), LOCAL_OFFSET_NED (position relative to the
 current position), BODY_NED and BODY_OFFSET_NED (position offset, velocity and acceleration rotated by the
@@ -37,6 +39,8 @@ FORCE_SET = 512
 IGNORE_YAW = 1024
 IGNORE_YAW_RATE = 2048
 MASK_VELOCITY_AND_YAW = 2503
+DEFINED_BITS = 0x0FFF
+_ACCELERATION_BITS = IGNORE_AX | IGNORE_AY | IGNORE_AZ
 
 
 @dataclass(frozen=True)
@@ -83,12 +87,13 @@ def decode_position_target(
     current_yaw_rad: float,
 ) -> OffboardSetpoint | str:
     """Decode one SET_POSITION_TARGET_LOCAL_NED; returns the setpoint or the reason it is refused."""
-    if type_mask < 0 or type_mask > 0x0FFF:
+    if type_mask < 0:
         return "type_mask_out_of_range"
-    if type_mask & FORCE_SET:
-        return "force_setpoint_unsupported"
+    type_mask &= DEFINED_BITS
     if frame not in SUPPORTED_FRAMES:
         return "frame_unsupported"
+    if type_mask & FORCE_SET and (type_mask & _ACCELERATION_BITS) != _ACCELERATION_BITS:
+        return "force_setpoint_unsupported"
     pos = _pick(position, type_mask, (IGNORE_X, IGNORE_Y, IGNORE_Z))
     vel = _pick(velocity, type_mask, (IGNORE_VX, IGNORE_VY, IGNORE_VZ))
     acc = _pick(acceleration, type_mask, (IGNORE_AX, IGNORE_AY, IGNORE_AZ))

@@ -45,6 +45,11 @@ MAV_TYPE_GCS = mavlink.MAV_TYPE_GCS
 _IGNORED_MESSAGES = frozenset({"COMMAND_ACK", "RADIO_STATUS", "SYSTEM_TIME", "STATUSTEXT", "MANUAL_CONTROL",
                                "REQUEST_DATA_STREAM", "PARAM_VALUE", "MISSION_ACK", "AUTOPILOT_VERSION"})
 """Messages a PX4 receives and has no answer to: counted as ``ignored``, not as ``unhandled``."""
+_SETPOINT_REFUSALS_LOGGED = {
+    "force_setpoint_unsupported": "SET_POSITION_TARGET_LOCAL_NED force not supported",
+    "frame_unsupported": "SET_POSITION_TARGET_LOCAL_NED coordinate frame {frame} unsupported",
+}
+"""The setpoint refusals PX4's receiver announces as a critical STATUSTEXT (the rest it drops silently)."""
 
 
 MessageHandler = Callable[["Vehicle", str, mavlink.MAVLink_message, float], list[Outgoing]]
@@ -160,7 +165,8 @@ class Vehicle(VehicleState):
         )
         if isinstance(decoded, str):
             self.rejections[f"setpoint_{decoded}"] += 1
-            return []
+            logged = _SETPOINT_REFUSALS_LOGGED.get(decoded)
+            return [text(SEVERITY_CRITICAL, logged.format(frame=msg.coordinate_frame))] if logged else []
         self.offboard_setpoint = decoded
         self.setpoint_t_s = now_s
         return []

@@ -25,10 +25,12 @@ def decode(mask: int, frame: int = MAV_FRAME_LOCAL_NED, pos=(1.0, 2.0, -3.0), ve
 
 
 def expected_valid(mask: int) -> bool:
-    """PX4's rule written independently: bit by bit."""
-    if mask >= 4096 or mask & 512:
-        return False
+    """PX4's rule written independently, bit by bit: undefined bits above 11 ignored, FORCE_SET refused only with an
+    acceleration in use, then every axis set and x/y paired."""
+    mask %= 4096
     ignored = [bool(mask & (1 << b)) for b in range(9)]  # x y z vx vy vz ax ay az
+    if mask & 512 and not all(ignored[6:9]):
+        return False
     for axis in range(3):
         if all(ignored[axis + 3 * k] for k in range(3)):
             return False
@@ -41,7 +43,16 @@ def expected_valid(mask: int) -> bool:
 def test_every_mask_combination() -> None:
     valid = [m for m in range(8192) if isinstance(decode(m), OffboardSetpoint)]
     assert valid == [m for m in range(8192) if expected_valid(m)]
-    assert len(valid) == 7 * 7 * 4
+    assert len(valid) == 2 * (7 * 7 * 4 + 3 * 3 * 4)
+    assert decode(MASK_VELOCITY_AND_YAW | 4096).type_mask == MASK_VELOCITY_AND_YAW
+
+
+def test_force_set_refused_only_with_an_acceleration() -> None:
+    assert isinstance(decode(MASK_VELOCITY_AND_YAW | 512), OffboardSetpoint)
+    acceleration_xy = 0b1100_0011_1111  # positions, velocities, yaw and yaw rate ignored; ax ay az used
+    assert isinstance(decode(acceleration_xy), OffboardSetpoint)
+    assert decode(acceleration_xy | 512) == "force_setpoint_unsupported"
+    assert decode((MASK_VELOCITY_AND_YAW & ~256) | 512) == "force_setpoint_unsupported"  # az used
 
 
 def test_mavsdk_velocity_yaw_mask() -> None:
@@ -75,8 +86,7 @@ def test_nan_in_used_field_refused_but_allowed_in_ignored() -> None:
 def test_unsupported_frames_and_force() -> None:
     assert decode(MASK_VELOCITY_AND_YAW, frame=0) == "frame_unsupported"
     assert decode(MASK_VELOCITY_AND_YAW, frame=6) == "frame_unsupported"
-    assert decode(MASK_VELOCITY_AND_YAW & ~512 | 512) == "force_setpoint_unsupported"
-    assert decode(4096 | MASK_VELOCITY_AND_YAW) == "type_mask_out_of_range"
+    assert decode(MASK_VELOCITY_AND_YAW | 512, frame=6) == "frame_unsupported"  # the frame is checked first
 
 
 def test_body_ned_rotates_velocity_by_yaw() -> None:
