@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from comms.frames import GeodeticHome, enu_to_geodetic
+from mission_plan.geometry import signed_area_m2
 
 Role = Literal["boundary", "leader", "follower"]
 Group = Literal["A", "B", ""]
@@ -510,8 +511,7 @@ def flood_polygon_from_enu(
         ring = ring[:-1]
     if len(ring) < 3:
         raise ValueError("a polygon needs at least 3 distinct vertices")
-    x, y = ring[:, 0], ring[:, 1]
-    signed_area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    signed_area = signed_area_m2(ring)
     if signed_area < 0:
         ring = ring[::-1]
     perimeter_m = float(np.sum(np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)))

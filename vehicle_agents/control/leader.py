@@ -15,6 +15,7 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mission_plan.geometry import ring_area_centroid
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.safety import safety_velocity, yielded_to
@@ -28,14 +29,8 @@ def polygon_area_centroid(points_en_m: NDArray[np.float64]) -> NDArray[np.float6
     if p.shape[0] < 3:
         return mean
     order = np.argsort(np.arctan2(p[:, 1] - mean[1], p[:, 0] - mean[0]))
-    ring = p[order]
-    x, y = ring[:, 0], ring[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cross = x * yn - xn * y
-    area2 = float(cross.sum())
-    if abs(area2) < 1e-9:
-        return mean
-    return np.array([((x + xn) * cross).sum() / (3.0 * area2), ((y + yn) * cross).sum() / (3.0 * area2)])
+    area_m2, centroid = ring_area_centroid(p[order])
+    return mean if abs(area_m2) < 5e-10 else centroid
 
 
 def leader_step(
