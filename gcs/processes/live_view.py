@@ -8,13 +8,19 @@ status line every few seconds instead, so logs of CI runs stay readable.
 from __future__ import annotations
 
 import math
+import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
-from rich.console import Group, RenderableType
+from rich.console import Console, Group, RenderableType
+from rich.live import Live
 from rich.panel import Panel
 from rich.progress_bar import ProgressBar
 from rich.table import Table
 from rich.text import Text
+
+from comms.messages import FLAG_SEES_EDGE, NeighbourState
+from gcs.processes.mavlink_watch import VehicleWatch
 
 
 @dataclass(frozen=True)
@@ -32,6 +38,27 @@ class VehicleRow:
     """Mission seconds since the agent's last state message on Zenoh."""
     battery_fraction: float
     sees_edge: bool
+
+
+def vehicle_rows(vehicle_ids: Sequence[int], roles: Mapping[int, str], groups: Mapping[int, str],
+                 watched: Mapping[int, VehicleWatch], states: Mapping[int, NeighbourState],
+                 agent_alive: Mapping[int, bool], mission_t_s: float, now_wall_s: float) -> tuple[VehicleRow, ...]:
+    """One row per vehicle from what the GCS link shows and what its agent last said."""
+    rows = []
+    for vid in vehicle_ids:
+        watch = watched.get(vid)
+        state = states.get(vid)
+        rows.append(VehicleRow(
+            vehicle_id=vid, role=roles[vid], group=groups[vid],
+            mode=watch.mode if watch else "-", armed=bool(watch and watch.armed),
+            altitude_m=watch.altitude_m if watch else math.nan,
+            heartbeat_age_s=watch.heartbeat_age_s(now_wall_s) if watch else math.inf,
+            agent_alive=agent_alive.get(vid, False),
+            state_age_s=mission_t_s - state.t_s if state else math.inf,
+            battery_fraction=watch.battery_fraction if watch else math.nan,
+            sees_edge=bool(state and state.has(FLAG_SEES_EDGE)),
+        ))
+    return tuple(rows)
 
 
 @dataclass(frozen=True)
@@ -121,3 +148,35 @@ def status_line(snapshot: MissionSnapshot) -> str:
         f"{snapshot.boundary_count} IoU={_fmt(snapshot.polygon_iou, '.3f')} coverage={_fmt(snapshot.coverage, '.3f')} "
         f"vehicles: {mode_text}"
     )
+
+
+class LiveOutput:
+    """Where the snapshots go: a rich live view on a terminal, else one status line every few seconds."""
+
+    def __init__(self, console: Console, live: bool, view_period_s: float = 0.25, status_period_s: float = 5.0) -> None:
+        self.console = console
+        self.view_period_s, self.status_period_s = view_period_s, status_period_s
+        self._live = Live(console=console, refresh_per_second=4, transient=False) if live and console.is_terminal else None
+        self._next_view_s = 0.0
+        self._next_status_s = time.monotonic() + status_period_s
+
+    def __enter__(self) -> LiveOutput:
+        if self._live is not None:
+            self._live.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._live is not None:
+            self._live.stop()
+
+    def due(self, now_wall_s: float) -> bool:
+        """Whether a new snapshot is wanted now (a few times a second)."""
+        return now_wall_s >= self._next_view_s
+
+    def show(self, snapshot: MissionSnapshot, now_wall_s: float) -> None:
+        self._next_view_s = now_wall_s + self.view_period_s
+        if self._live is not None:
+            self._live.update(render(snapshot))
+        elif now_wall_s >= self._next_status_s:
+            print(status_line(snapshot), flush=True)
+            self._next_status_s = now_wall_s + self.status_period_s
