@@ -29,8 +29,8 @@ from numpy.typing import ArrayLike
 
 from comms.frames import GeodeticHome, enu_to_geodetic
 from mission_plan.geometry import signed_area_m2
+from mission_plan.roles import Role
 
-Role = Literal["boundary", "leader", "follower"]
 Group = Literal["A", "B", ""]
 Point2 = tuple[float, float]
 Point3 = tuple[float, float, float]

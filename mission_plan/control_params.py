@@ -106,11 +106,12 @@ class ControlParams:
                 raise ControlParamsError(f"vehicles.{entry.vehicle_id}.role: unknown role {entry.role!r}")
 
     def entry(self, vehicle_id: int) -> RosterEntry:
-        """This vehicle's roster entry (a lone vehicle not in the roster is a paper-mode boundary drone of A)."""
+        """This vehicle's roster entry; a vehicle the roster does not hold is an error (KeyError naming it)."""
         for entry in self.roster:
             if entry.vehicle_id == vehicle_id:
                 return entry
-        return RosterEntry(vehicle_id=vehicle_id, role=ROLE_BOUNDARY, group="A")
+        known = ", ".join(str(e.vehicle_id) for e in self.roster) or "none"
+        raise KeyError(f"vehicle {vehicle_id} is not in the roster (vehicles: {known})")
 
     def ring_order(self) -> tuple[int, ...]:
         """Boundary drone ids in counter-clockwise order once caged: B's leader first, then B, then A back to A's leader.

@@ -28,6 +28,7 @@ from comms.zenoh_session import ZenohOpenError
 from mission_plan.control_params import MODES
 from mission_plan.plan_files import PlanFileError, read_plan
 from mission_plan.plans import AgentPlan, agent_plan
+from mission_plan.roles import Role
 from mission_plan.scenario_files import load_scenario
 from mission_plan.table_fields import ScenarioError
 from vehicle_agents.agent import EXIT_START_FAILED, Agent, AgentConfig
@@ -40,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m vehicle_agents", description="One FloodWatch drone's onboard agent.")
     p.add_argument("--plan", type=Path, metavar="FILE", help="this drone's plan file (agent plan JSON)")
     p.add_argument("--id", type=int, dest="vehicle_id", help="vehicle id (= MAVLink system id); with --scenario")
-    p.add_argument("--role", choices=("boundary", "leader", "follower"), help="must match the plan")
+    p.add_argument("--role", choices=[r.value for r in Role], help="must match the plan")
     p.add_argument("--mavlink", help="autopilot URL (default udpin://0.0.0.0:<14540 + id - 1>)")
     p.add_argument("--mavlink-base-port", type=int, default=14540, help="base of the default URL's port")
     p.add_argument("--link", choices=("mavsdk", "pymavlink"), default="mavsdk", help="MAVLink library")

@@ -27,6 +27,7 @@ from comms.messages import (
     MAX_EDGE_POINTS,
     NeighbourState,
 )
+from mission_plan.roles import Role
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 from vehicle_agents.control.types import NeighbourInfo, OwnState, VelocityCommand
 from vehicle_agents.perception.result import PerceptionResult
@@ -124,6 +125,6 @@ def state_message(
         battery_fraction=float(tel.battery_fraction),
         group=(broadcast.group or ""),  # type: ignore[arg-type]
         encircle_complete=broadcast.encircled,
-        edge_points_en_m=edge_points_for_radio(edge_points_en_m) if broadcast.role == "boundary" else [],
+        edge_points_en_m=edge_points_for_radio(edge_points_en_m) if broadcast.role == Role.BOUNDARY else [],
         extras={k: v for k, v in extras.items() if math.isfinite(v)},
     )

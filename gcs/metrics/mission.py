@@ -27,6 +27,7 @@ from gcs.metrics.spacing import spacing_from_arcs
 from gcs.metrics.tracking import max_m, rms_m
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.ring import project_onto_ring, ring_area_m2, ring_perimeter_m
+from mission_plan.roles import Role
 from mock_autopilot.world.flood_model import FloodModel
 
 SCHEMA = "floodwatch.metrics/1"
@@ -54,8 +55,8 @@ def compute_mission_metrics(
     alive = _alive_mask(record, n_t, n_v) & np.all(np.isfinite(pos), axis=-1)
     sides = _footprint_sides(record, pos, alive, camera_fov_deg)
     roles = np.array(record.roles)
-    boundary = np.flatnonzero(roles == "boundary")
-    leaders = np.flatnonzero(roles == "leader")
+    boundary = np.flatnonzero(roles == Role.BOUNDARY.value)
+    leaders = np.flatnonzero(roles == Role.LEADER.value)
 
     rings = [np.asarray(flood.boundary_en_m(float(tk)), dtype=float) for tk in t]
     edge = _edge_series(pos, alive, boundary, rings)
@@ -73,7 +74,7 @@ def compute_mission_metrics(
                 "role": record.roles[loss.index],
                 "t_s": loss.t_s,
                 "recovery_time_s": recovery_time_s(t, edge["spacing_cv"], loss.t_s, CV_RECOVERED)
-                if record.roles[loss.index] == "boundary"
+                if record.roles[loss.index] == Role.BOUNDARY
                 else math.nan,
             }
         )

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from gcs.metrics.coverage import footprint_side_m
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.caged import caged_polygon
+from mission_plan.roles import Role
 from mock_autopilot.world.flood_model import ExpandingCircle
 
 
@@ -42,7 +43,7 @@ def synthetic_circle_record(
     rng = np.random.default_rng(seed)
     t = np.arange(int(round(duration_s * rate_hz)) + 1) / rate_hz
     n_v = 1 + n_followers + n_boundary
-    roles = ["leader"] + ["follower"] * n_followers + ["boundary"] * n_boundary
+    roles = [Role.LEADER] + [Role.FOLLOWER] * n_followers + [Role.BOUNDARY] * n_boundary
     pos = np.zeros((len(t), n_v, 3))
     alive = np.ones((len(t), n_v), bool)
     cx, cy = flood.center_en_m
