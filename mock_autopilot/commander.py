@@ -9,7 +9,19 @@ from __future__ import annotations
 
 from pymavlink.dialects.v20 import common as mavlink
 
-from comms.px4 import MODE_TABLE, MavResult, Px4Mode, mode_allowed
+from comms.px4 import (
+    MAV_MODE_FLAG_AUTO_ENABLED,
+    MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
+    MAV_MODE_FLAG_GUIDED_ENABLED,
+    MAV_MODE_FLAG_MANUAL_INPUT_ENABLED,
+    MAV_MODE_FLAG_STABILIZE_ENABLED,
+    MODE_TABLE,
+    PX4_MAIN_MODE_AUTO,
+    MavResult,
+    Px4Mode,
+    mode_allowed,
+    mode_from_numbers,
+)
 from mock_autopilot import telemetry
 from mock_autopilot.battery import LEVEL_LABELS
 from mock_autopilot.position_control import TAKEOFF_ACCEPT_M
@@ -59,13 +71,41 @@ def request_mode(v: VehicleState, mode: Px4Mode, now_s: float) -> tuple[MavResul
         return MavResult.TEMPORARILY_REJECTED, [text(SEVERITY_CRITICAL, f"Switching to {mode.value} is currently not possible")]
     if mode == Px4Mode.AUTO_MISSION:
         return MavResult.TEMPORARILY_REJECTED, [text(SEVERITY_CRITICAL, "Mission rejected: no mission")]
-    if mode == Px4Mode.OFFBOARD and v.armed and not v.offboard_fresh(now_s):
+    if mode == Px4Mode.OFFBOARD and not v.offboard_fresh(now_s):
         return MavResult.TEMPORARILY_REJECTED, [text(SEVERITY_CRITICAL, "Switching to Offboard is currently not possible")]
-    if mode == Px4Mode.AUTO_TAKEOFF and not v.armed:
-        return MavResult.TEMPORARILY_REJECTED, [text(SEVERITY_CRITICAL, "Takeoff denied: disarmed")]
     enter_mode(v, mode)
     v.failsafe = False
     return MavResult.ACCEPTED, []
+
+
+def set_mode(v: VehicleState, base_mode: int, main_mode: int, sub_mode: int, now_s: float) -> tuple[MavResult, list[Outgoing]]:
+    """DO_SET_MODE / SET_MODE as PX4 commander reads them: with CUSTOM_MODE_ENABLED the PX4 main/sub mode (AUTO
+    without a sub mode is MISSION; an AUTO sub mode PX4 does not know is refused), else the standard base-mode flags
+    (AUTO -> MISSION, MANUAL_INPUT with GUIDED -> POSCTL, with STABILIZE -> STABILIZED, alone -> MANUAL). A request
+    naming no mode at all changes nothing and is accepted, as in PX4."""
+    if base_mode & MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
+        if main_mode == PX4_MAIN_MODE_AUTO and sub_mode == 0:
+            sub_mode = MODE_TABLE[Px4Mode.AUTO_MISSION].sub_mode
+        mode = mode_from_numbers(main_mode, sub_mode)
+        if mode is None and main_mode == PX4_MAIN_MODE_AUTO:
+            v.rejections["unknown_mode"] += 1
+            return MavResult.TEMPORARILY_REJECTED, [text(SEVERITY_CRITICAL, "Unsupported auto mode")]
+    else:
+        mode = _mode_from_base_flags(base_mode)
+    if mode is None:
+        v.rejections["unknown_mode"] += 1
+        return MavResult.ACCEPTED, []
+    return request_mode(v, mode, now_s)
+
+
+def _mode_from_base_flags(base_mode: int) -> Px4Mode | None:
+    if base_mode & MAV_MODE_FLAG_AUTO_ENABLED:
+        return Px4Mode.AUTO_MISSION
+    if not base_mode & MAV_MODE_FLAG_MANUAL_INPUT_ENABLED:
+        return None
+    if base_mode & MAV_MODE_FLAG_GUIDED_ENABLED:
+        return Px4Mode.POSCTL
+    return Px4Mode.STABILIZED if base_mode & MAV_MODE_FLAG_STABILIZE_ENABLED else Px4Mode.MANUAL
 
 
 def enter_mode(v: VehicleState, mode: Px4Mode) -> None:

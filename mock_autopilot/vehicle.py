@@ -25,7 +25,7 @@ from typing import Callable
 
 from pymavlink.dialects.v20 import common as mavlink
 
-from comms.px4 import MavResult, Px4Mode, mode_from_custom_mode
+from comms.px4 import MavResult, Px4Mode
 from mock_autopilot import commander, telemetry
 from mock_autopilot.commander import SEVERITY_CRITICAL, SEVERITY_WARNING, text
 from mock_autopilot.kinematics import step_kinematics
@@ -173,14 +173,11 @@ class Vehicle(VehicleState):
 
     # --- modes
     def _on_set_mode(self, link: str, msg: mavlink.MAVLink_message, now_s: float) -> list[Outgoing]:
-        if not msg.base_mode & mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
-            self.rejections["set_mode_without_custom_flag"] += 1
-            return [self._ack(link, msg, mavlink.MAV_CMD_DO_SET_MODE, MavResult.DENIED)]
-        mode = mode_from_custom_mode(msg.custom_mode)
-        if mode is None:
+        custom = msg.custom_mode
+        if custom & 0xFFFF:  # bits PX4 never sets: no mode of PX4's
             self.rejections["unknown_mode"] += 1
             return [self._ack(link, msg, mavlink.MAV_CMD_DO_SET_MODE, MavResult.DENIED)]
-        result, texts = commander.request_mode(self, mode, now_s)
+        result, texts = commander.set_mode(self, msg.base_mode, (custom >> 16) & 0xFF, (custom >> 24) & 0xFF, now_s)
         return texts + [self._ack(link, msg, mavlink.MAV_CMD_DO_SET_MODE, result)]
 
     # --- commands

@@ -14,7 +14,7 @@ from typing import Callable, NamedTuple
 from pymavlink.dialects.v20 import common as mavlink
 
 from comms.frames import geodetic_to_enu, mission_enu_to_local_ned
-from comms.px4 import LandedState, MavResult, Px4Mode, mode_from_numbers
+from comms.px4 import LandedState, MavResult, Px4Mode
 from mock_autopilot import commander, telemetry
 from mock_autopilot.commander import SEVERITY_CRITICAL, SEVERITY_INFO, text
 from mock_autopilot.vehicle_snapshot import take_snapshot
@@ -40,8 +40,14 @@ def _refuse(message: str) -> CommandReply:
     return _reply(MavResult.TEMPORARILY_REJECTED, [text(SEVERITY_CRITICAL, message)])
 
 
+def _rounded(value: float) -> int | None:
+    """PX4 reads integer-valued params with lroundf; None for NaN and infinities."""
+    return int(round(value)) if math.isfinite(value) else None
+
+
 def arm_disarm(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
-    if p[0] == 1.0:
+    action = _rounded(p[0])
+    if action == 1:
         if v.armed:
             return _reply(MavResult.ACCEPTED)
         reason = commander.arming_denial(v, now_s)
@@ -49,32 +55,26 @@ def arm_disarm(v: VehicleState, link: str, command: int, p: list[float], now_s: 
             return _refuse(f"Arming denied: {reason}")
         commander.arm(v, now_s)
         return _reply(MavResult.ACCEPTED, [text(SEVERITY_INFO, "Armed by external command")])
-    if p[0] == 0.0:
+    if action == 0:
         if not v.armed:
             return _reply(MavResult.ACCEPTED)
-        forced = int(p[1]) == FORCE_DISARM_MAGIC if math.isfinite(p[1]) else False
+        forced = _rounded(p[1]) == FORCE_DISARM_MAGIC
         if v.landed_state != LandedState.ON_GROUND and not v.on_ground() and not forced:
             return _refuse("Disarming denied: not landed")
         commander.disarm(v, "Disarmed by external command")
         return _reply(MavResult.ACCEPTED)
     v.rejections["bad_arm_param"] += 1
-    return _reply(MavResult.DENIED)
+    return _reply(MavResult.UNSUPPORTED, [text(SEVERITY_CRITICAL, f"Unsupported ARM_DISARM param: {p[0]:.3f}")])
 
 
 def set_mode(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
-    if not all(math.isfinite(x) for x in p[:3]) or not int(p[0]) & mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
+    if not all(math.isfinite(x) for x in p[:3]):
         v.rejections["bad_set_mode"] += 1
         return _reply(MavResult.DENIED)
-    mode = mode_from_numbers(int(p[1]), int(p[2]))
-    if mode is None:
-        v.rejections["unknown_mode"] += 1
-        return _reply(MavResult.DENIED)
-    return _reply(*commander.request_mode(v, mode, now_s))
+    return _reply(*commander.set_mode(v, int(p[0]) & 0xFF, int(p[1]) & 0xFF, int(p[2]) & 0xFF, now_s))
 
 
 def takeoff(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
-    if not v.armed:
-        return _refuse("Takeoff denied: disarmed")
     if v.mode == Px4Mode.AUTO_TAKEOFF:
         return _reply(MavResult.ACCEPTED)
     if math.isfinite(p[6]):
@@ -83,28 +83,30 @@ def takeoff(v: VehicleState, link: str, command: int, p: list[float], now_s: flo
         target_up_m = v.params["MIS_TAKEOFF_ALT"]
     if target_up_m <= 0.0:
         return _reply(MavResult.DENIED, [text(SEVERITY_CRITICAL, "Takeoff denied: altitude below home")])
+    result, texts = commander.request_mode(v, Px4Mode.AUTO_TAKEOFF, now_s)
+    if result != MavResult.ACCEPTED:
+        return _reply(result, texts)
     v.takeoff_down_m = float(v.home_ned_m[2]) - target_up_m
-    commander.enter_mode(v, Px4Mode.AUTO_TAKEOFF)
-    v.failsafe = False
     return _reply(MavResult.ACCEPTED, [text(SEVERITY_INFO, f"Takeoff to {target_up_m:.1f} meters above home")])
 
 
 def land(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
-    if not v.armed:
-        return _refuse("Land denied: disarmed")
-    if v.mode != Px4Mode.AUTO_LAND:
-        commander.enter_mode(v, Px4Mode.AUTO_LAND)
-        v.failsafe = False
-    return _reply(MavResult.ACCEPTED)
+    result, texts = commander.request_mode(v, Px4Mode.AUTO_LAND, now_s)
+    if result == MavResult.ACCEPTED:
+        texts.append(text(SEVERITY_INFO, "Landing at current position"))
+    return _reply(result, texts)
 
 
 def return_to_launch(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
-    if not v.armed:
-        return _reply(MavResult.TEMPORARILY_REJECTED)
-    return _reply(*commander.request_mode(v, Px4Mode.AUTO_RTL, now_s))
+    result, texts = commander.request_mode(v, Px4Mode.AUTO_RTL, now_s)
+    if result == MavResult.ACCEPTED:
+        texts.append(text(SEVERITY_INFO, "Returning to launch"))
+    return _reply(result, texts)
 
 
 def reposition(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
+    if _rounded(p[1]) != mavlink.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE:
+        return _reply(MavResult.UNSUPPORTED)  # PX4 only repositions when asked to switch to Hold, with no other flag
     if not v.armed or not v.global_position_valid:
         return _refuse("Reposition denied: no global position")
     target = v.position_ned_m.copy()
