@@ -1,0 +1,73 @@
+"""The ground station with no simulator: real processes of `python -m mock_autopilot` as the vehicles and
+`python -m vehicle_agents` as their agents, as on real drones (no simulator bridge, no cameras, no radio emulator,
+no ground truth). The station must bring the mission through its phases on what the GCS link and the agents say."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import subprocess
+import sys
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from gcs.processes.ground_station import EXIT_OK, GroundStation
+from gcs.processes.launch import ProcessOptions
+from gcs.scenario import load_scenario
+
+pytestmark = pytest.mark.integration
+REPO = Path(__file__).resolve().parents[3]
+TWO_BOUNDARY_DRONES = ("fleet.boundary_per_group=1", "fleet.leaders=0", "fleet.follower_layers=[]")
+
+
+@pytest.fixture
+def processes() -> Iterator[Callable[[list[str], Path], subprocess.Popen]]:
+    """Start Python modules from the repository; every one is stopped at teardown, whatever happened."""
+    started: list[subprocess.Popen] = []
+
+    def start(args: list[str], log: Path) -> subprocess.Popen:
+        env = dict(os.environ, PYTHONPATH=str(REPO))
+        with log.open("w") as out:
+            started.append(subprocess.Popen([sys.executable, "-m", *args], cwd=REPO, env=env, stdout=out,
+                                            stderr=subprocess.STDOUT))
+        return started[-1]
+
+    yield start
+    for p in started:
+        if p.poll() is None:
+            p.terminate()
+    for p in started:
+        try:
+            p.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait(timeout=10)
+
+
+def test_station_flies_a_mission_with_mock_px4_vehicles_and_no_simulator(
+    tmp_path: Path, udp_ports: Callable[[int], int], zenoh_endpoint: Callable[[], str],
+    processes: Callable[[list[str], Path], subprocess.Popen],
+) -> None:
+    scenario = load_scenario("circle", TWO_BOUNDARY_DRONES)
+    base, gcs, endpoint = udp_ports(2), udp_ports(1), zenoh_endpoint()
+    out = tmp_path / "run"
+    out.mkdir()
+    options = ProcessOptions(scenario_arg="circle", overrides=TWO_BOUNDARY_DRONES, duration_s=3.0, out_dir=out,
+                             mission="nosim", mavlink_base_port=base, gcs_port=gcs, zenoh_endpoint=endpoint,
+                             live=False, startup_timeout_s=60.0, takeoff_timeout_s=90.0)
+    station = GroundStation(scenario, options, out, simulated=False)
+    vehicles = processes(["mock_autopilot", "--vehicles", "2", "--base-port", str(base), "--gcs-port", str(gcs)],
+                         tmp_path / "vehicles.log")
+    for vid in (1, 2):
+        processes(["vehicle_agents", "--scenario", "circle", *[a for o in TWO_BOUNDARY_DRONES for a in ("--set", o)],
+                   "--id", str(vid), "--mission", "nosim", "--mavlink-base-port", str(base), "--neighbours", "direct",
+                   "--connect", endpoint], tmp_path / f"agent_{vid}.log")
+    code = asyncio.run(station.run())
+    events = (out / "events.log").read_text()
+    assert code == EXIT_OK, events
+    assert vehicles.poll() is None, "the vehicles outlive the station: it did not start them and does not stop them"
+    assert "no simulator" in events and "flood clock starts" in events and "mission complete" in events
+    assert station.evaluation is None and station.children is None
+    assert (out / "vehicle_1.tlog").stat().st_size > 0 and (out / "vehicle_2.tlog").stat().st_size > 0
