@@ -25,7 +25,7 @@ from pathlib import Path
 from comms.keys import KeyNameError, validate_mission
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.zenoh_session import ZenohOpenError
-from mission_plan.control_params import MODES
+from mission_plan.control_params import MODES, ControlMode
 from mission_plan.plan_files import PlanFileError, read_plan
 from mission_plan.plans import AgentPlan, agent_plan
 from mission_plan.roles import Role
@@ -79,7 +79,7 @@ def load_agent_plan(args: argparse.Namespace) -> AgentPlan:
     if args.vehicle_id is None:
         raise ScenarioError("--id: required with --scenario (or give a --plan file)")
     scenario = load_scenario(args.scenario or "circle", args.overrides)
-    return agent_plan(scenario, args.vehicle_id, args.mode or "improved")
+    return agent_plan(scenario, args.vehicle_id, args.mode or ControlMode.IMPROVED)
 
 
 def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float = 1.0, paced: bool = False,

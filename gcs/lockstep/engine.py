@@ -34,6 +34,7 @@ from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.scenario import Scenario
+from mission_plan.control_params import ControlMode
 from mission_plan.roles import Role
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
@@ -118,7 +119,7 @@ def _perception_for(
 
 def run_lockstep(
     scenario: Scenario,
-    mode: str = "paper",
+    mode: str = ControlMode.PAPER,
     seed: int | None = None,
     duration_s: float | None = None,
     control_params: ControlParams | None = None,

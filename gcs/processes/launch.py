@@ -12,6 +12,7 @@ from pathlib import Path
 
 from comms.zenoh_session import DEFAULT_ENDPOINT
 from gcs.scenario import Scenario
+from mission_plan.control_params import ControlMode
 from mock_autopilot.ports import onboard_port
 
 
@@ -22,7 +23,7 @@ class ProcessOptions:
     scenario_arg: str
     """The scenario name or TOML path, as given on the command line (for the record; children read plan files)."""
     overrides: tuple[str, ...] = ()
-    mode: str = "improved"
+    mode: str = ControlMode.IMPROVED
     seed: int | None = None
     duration_s: float | None = None
     speed: float = 1.0

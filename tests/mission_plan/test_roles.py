@@ -20,3 +20,12 @@ def test_unknown_vehicle_id_is_an_error_not_a_default_boundary_drone() -> None:
     params = ControlParams()
     with pytest.raises(KeyError, match="vehicle 99 is not in the roster"):
         params.entry(99)
+
+
+def test_control_mode_is_an_enum_equal_to_its_plan_name() -> None:
+    from mission_plan.control_params import MODES, ControlMode, params_for_mode
+
+    assert MODES == (ControlMode.PAPER, ControlMode.IMPROVED) and ControlMode("improved") is ControlMode.IMPROVED
+    assert params_for_mode("improved").mode == ControlMode.IMPROVED
+    with pytest.raises(ValueError):
+        ControlMode("fast")

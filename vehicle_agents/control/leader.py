@@ -15,6 +15,7 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mission_plan.control_params import ControlMode
 from mission_plan.geometry import ring_area_centroid
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
@@ -45,10 +46,10 @@ def leader_step(
     if boundary:
         qb = np.array([n.position_en_m for n in boundary], dtype=float)
         vb = np.array([n.velocity_en_mps for n in boundary], dtype=float)
-        target = polygon_area_centroid(qb) if params.mode == "improved" and encircled else qb.mean(axis=0)
+        target = polygon_area_centroid(qb) if params.mode == ControlMode.IMPROVED and encircled else qb.mean(axis=0)
         velocity = np.asarray(params.k_leader_per_s) * (target - q) + vb.mean(axis=0)
         radius = float(np.mean(np.hypot(qb[:, 0] - target[0], qb[:, 1] - target[1])))
-    if params.mode == "improved":
+    if params.mode == ControlMode.IMPROVED:
         others = np.array([n.position_en_m for n in yielded_to(ROLE_LEADER, neighbours)], dtype=float).reshape(-1, 2)
         velocity = velocity + safety_velocity(q, others, params.safety_radius_m, params.safety_gain_mps)
     speed = float(np.hypot(velocity[0], velocity[1]))
