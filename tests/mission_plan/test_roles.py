@@ -26,6 +26,6 @@ def test_control_mode_is_an_enum_equal_to_its_plan_name() -> None:
     from mission_plan.control_params import MODES, ControlMode, params_for_mode
 
     assert MODES == (ControlMode.PAPER, ControlMode.IMPROVED) and ControlMode("improved") is ControlMode.IMPROVED
-    assert params_for_mode("improved").mode == ControlMode.IMPROVED
+    assert params_for_mode("improved", {}, ()).mode == ControlMode.IMPROVED
     with pytest.raises(ValueError):
         ControlMode("fast")
