@@ -24,7 +24,6 @@ from __future__ import annotations
 import asyncio
 import datetime as dt
 import math
-import os
 import signal
 import time
 import traceback
@@ -38,7 +37,7 @@ from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from gcs.processes.event_log import EventLog
 from gcs.processes.fleet_readiness import HeartbeatWatch, everyone_heard, everyone_in_offboard, takeoff_problem
-from gcs.processes.host_capacity import estimate_capacity
+from gcs.processes.host_capacity import host_warning
 from gcs.processes.launch import ProcessOptions
 from gcs.processes.live_view import LiveOutput, MissionSnapshot, vehicle_rows
 from gcs.processes.mavlink_watch import MavlinkWatcher
@@ -163,10 +162,8 @@ class GroundStation:
         return code
 
     def _warn_if_host_too_small(self) -> None:
-        estimate = estimate_capacity(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed,
-                                     len(os.sched_getaffinity(0)))
-        warning = estimate.warning(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed,
-                                   paced=self.options.clock == "paced")
+        warning = host_warning(len(self.vehicle_ids), self.scenario.control_rate_hz, self.options.speed,
+                               paced=self.options.clock == "paced")
         if warning is not None:
             self.events(warning)
             self.console.print(f"[bold yellow]{warning}[/]")

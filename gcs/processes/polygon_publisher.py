@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from comms.flood_polygon import flood_polygon_from_enu
 from comms.frames import GeodeticHome
 from comms.keys import MissionKeys
-from comms.messages import NeighbourState, encode, flood_polygon_from_enu
+from comms.messages import NeighbourState, encode
 from comms.zenoh_session import ZenohSession
 from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
