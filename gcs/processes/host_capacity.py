@@ -11,7 +11,6 @@ together ~0.55 core for 13 vehicles, growing slowly with the fleet.
 from __future__ import annotations
 
 import os
-
 from dataclasses import dataclass
 
 NICE_WEIGHTS = (1024, 820, 655, 526, 423, 335, 272, 215, 172, 137, 110, 87, 70, 56, 45, 36, 29, 23, 18, 15)
