@@ -56,7 +56,7 @@ def velocity_command(v: VehicleState, t_s: float) -> tuple[NDArray[np.float64], 
     nan = math.nan
     if mode == Px4Mode.OFFBOARD:
         sp = v.offboard_setpoint
-        if sp is None or not v.offboard_fresh(t_s):
+        if sp is None or not sp.flyable or not v.offboard_fresh(t_s):  # PX4's failsafe setpoint: hover
             return _goto(v, v.hold_ned, cruise_speed_mps(v), up, down), nan, 0.0
         command = velocity_command_ned(
             sp, v.position_ned_m, v.velocity_ned_mps, v.params["MPC_XY_P"], v.params["MPC_Z_P"],

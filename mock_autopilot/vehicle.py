@@ -48,6 +48,7 @@ _IGNORED_MESSAGES = frozenset({"COMMAND_ACK", "RADIO_STATUS", "SYSTEM_TIME", "ST
 _SETPOINT_REFUSALS_LOGGED = {
     "force_setpoint_unsupported": "SET_POSITION_TARGET_LOCAL_NED force not supported",
     "frame_unsupported": "SET_POSITION_TARGET_LOCAL_NED coordinate frame {frame} unsupported",
+    "no_setpoint": "SET_POSITION_TARGET_LOCAL_NED invalid",
 }
 """The setpoint refusals PX4's receiver announces as a critical STATUSTEXT (the rest it drops silently)."""
 
@@ -167,6 +168,8 @@ class Vehicle(VehicleState):
             self.rejections[f"setpoint_{decoded}"] += 1
             logged = _SETPOINT_REFUSALS_LOGGED.get(decoded)
             return [text(SEVERITY_CRITICAL, logged.format(frame=msg.coordinate_frame))] if logged else []
+        if not decoded.flyable:
+            self.rejections["setpoint_not_flyable"] += 1
         self.offboard_setpoint = decoded
         self.setpoint_t_s = now_s
         return []

@@ -394,11 +394,27 @@ def test_datalink_loss_action() -> None:
     assert any("GCS connection lost" in t for t in h.texts())
 
 
-def test_setpoint_with_nan_in_used_field_is_counted_not_applied() -> None:
+def test_setpoint_px4_cannot_fly_is_proof_of_life_and_the_vehicle_hovers() -> None:
+    # PX4: NaN in a used field means "not set"; north then has no setpoint, which the position controller's input
+    # check rejects: offboard stays alive (offboard_control_mode is published) and the vehicle flies its failsafe.
     h = VehicleHarness()
-    velocity(h, NAN, 0.0, 0.0)
-    assert h.vehicle.offboard_setpoint is None
-    assert h.vehicle.rejections["setpoint_non_finite_field"] == 1
+    airborne(h, 5.0)
+    velocity(h, 0.0, 0.0, 0.0)
+    assert set_mode(h, Px4Mode.OFFBOARD) == ACCEPTED
+    start = h.vehicle.position_ned_m.copy()
+    for _ in range(40):
+        velocity(h, NAN, 2.0, 0.0)
+        h.run(0.05)
+    assert h.vehicle.mode is Px4Mode.OFFBOARD and not h.vehicle.offboard_setpoint.flyable
+    assert h.vehicle.rejections["setpoint_not_flyable"] == 40
+    assert h.vehicle.position_ned_m == pytest.approx(start, abs=0.1)
+
+
+def test_setpoint_setting_nothing_is_refused_with_px4_text() -> None:
+    h = VehicleHarness()
+    velocity(h, NAN, NAN, NAN)
+    assert h.vehicle.offboard_setpoint is None and h.vehicle.rejections["setpoint_no_setpoint"] == 1
+    assert "SET_POSITION_TARGET_LOCAL_NED invalid" in h.texts()
 
 
 def test_killed_vehicle_is_silent_and_falls() -> None:
