@@ -121,6 +121,9 @@ MAVSDK_MODE_NAMES: dict[str, str] = {mode.value: spec.mavsdk_name for mode, spec
 """PX4's own mode name (QGroundControl's, ``Px4Mode.value``) -> the name MAVSDK's ``FlightMode`` gives it, which is
 what an onboard agent's telemetry carries. The two agree on OFFBOARD, the mode the flight phase tests."""
 
+MAVSDK_OFFBOARD = MODE_TABLE[Px4Mode.OFFBOARD].mavsdk_name
+"""OFFBOARD as MAVSDK's telemetry names it (what an onboard agent compares its flight mode with)."""
+
 _BY_NUMBERS: dict[tuple[int, int], Px4Mode] = {(s.main_mode, s.sub_mode): m for m, s in MODE_TABLE.items()}
 
 

@@ -27,6 +27,7 @@ from comms.messages import (
     MAX_EDGE_POINTS,
     NeighbourState,
 )
+from comms.px4 import MAVSDK_OFFBOARD
 from mission_plan.roles import Role
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 from vehicle_agents.control.types import NeighbourInfo, OwnState, VelocityCommand
@@ -99,7 +100,7 @@ def state_message(
     flags = 0
     flags |= FLAG_ARMED if tel.armed else 0
     flags |= FLAG_AIRBORNE if tel.in_air else 0
-    flags |= FLAG_OFFBOARD if tel.flight_mode == "OFFBOARD" else 0
+    flags |= FLAG_OFFBOARD if tel.flight_mode == MAVSDK_OFFBOARD else 0
     flags |= FLAG_HAS_GPS if own.has_gps else 0
     flags |= FLAG_LEAVING if leaving else 0
     flags |= FLAG_LOW_BATTERY if low_battery else 0

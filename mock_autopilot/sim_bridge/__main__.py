@@ -26,6 +26,7 @@ import numpy as np
 
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
+from comms.px4 import Px4Mode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
 from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import FleetPlan, fleet_plan
@@ -72,7 +73,7 @@ def setpoint_ages(fleet: Fleet, truth: FleetTruth, now_s: float) -> list[float]:
     ages = []
     for vehicle, mode in zip(fleet.vehicles, truth.modes):
         received_s = getattr(vehicle, "_setpoint_t_s", None)
-        if mode == "OFFBOARD" and received_s is not None and np.isfinite(received_s):
+        if mode == Px4Mode.OFFBOARD.value and received_s is not None and np.isfinite(received_s):
             ages.append(now_s - received_s)
     return ages
 
