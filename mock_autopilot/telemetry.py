@@ -12,9 +12,8 @@ healthy -> is_armable.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import cached_property
-from typing import Callable
+from functools import lru_cache
+from typing import Callable, NamedTuple
 
 import numpy as np
 from pymavlink.dialects.v20 import common as mavlink
@@ -57,8 +56,7 @@ AUTOPILOT_CAPABILITIES = (
 )
 
 
-@dataclass(frozen=True)
-class VehicleSnapshot:
+class VehicleSnapshot(NamedTuple):
     """Everything telemetry reports about one vehicle at one simulated time.
 
     position_ned_m / velocity_ned_mps / home_ned_m [m, m/s; local NED from the pad], yaw_rad and roll/pitch
@@ -93,25 +91,30 @@ class VehicleSnapshot:
     """MAV_BATTERY_CHARGE_STATE: 1 ok, 2 low, 3 critical, 4 emergency."""
     offboard_setpoint: OffboardSetpoint | None
 
-    @cached_property
+    @property
     def geodetic(self) -> tuple[float, float, float]:
         """(lat_deg, lon_deg, alt_m AMSL) of the vehicle: home + pad + local position."""
-        return self._geodetic_of(self.position_ned_m)
+        return geodetic_of(self.position_ned_m, self.pad_enu_m, self.home)
 
-    @cached_property
+    @property
     def home_geodetic(self) -> tuple[float, float, float]:
         """(lat_deg, lon_deg, alt_m AMSL) of the home position."""
-        return self._geodetic_of(self.home_ned_m)
-
-    def _geodetic_of(self, position_ned_m: tuple[float, float, float]) -> tuple[float, float, float]:
-        enu = local_ned_to_mission_enu(np.asarray(position_ned_m), self.pad_enu_m)
-        lat, lon, alt = enu_to_geodetic(enu, self.home)
-        return float(lat), float(lon), float(alt)
+        return geodetic_of(self.home_ned_m, self.pad_enu_m, self.home)
 
     @property
     def amsl_m(self) -> float:
         """Altitude above mean sea level [m]."""
         return self.home.alt_m + float(self.pad_enu_m[2]) - self.position_ned_m[2]
+
+
+@lru_cache(maxsize=4096)
+def geodetic_of(position_ned_m: tuple[float, float, float], pad_enu_m: tuple[float, float, float],
+                home: GeodeticHome) -> tuple[float, float, float]:
+    """(lat_deg, lon_deg, alt_m AMSL) of a vehicle's local NED position (home + pad + local). Remembered: a vehicle
+    at rest, and the GLOBAL_POSITION_INT and GPS_RAW_INT of one tick, convert once."""
+    enu = local_ned_to_mission_enu(np.asarray(position_ned_m), pad_enu_m)
+    lat, lon, alt = enu_to_geodetic(enu, home)
+    return float(lat), float(lon), float(alt)
 
 
 def _i16(value: float) -> int:
