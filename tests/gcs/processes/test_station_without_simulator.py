@@ -8,6 +8,8 @@ import asyncio
 import os
 import subprocess
 import sys
+import threading
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -20,6 +22,10 @@ from gcs.scenario import load_scenario
 pytestmark = pytest.mark.integration
 REPO = Path(__file__).resolve().parents[3]
 TWO_BOUNDARY_DRONES = ("fleet.boundary_per_group=1", "fleet.leaders=0", "fleet.follower_layers=[]")
+
+
+def _read(path: Path) -> str:
+    return path.read_text() if path.exists() else ""
 
 
 @pytest.fixture
@@ -58,14 +64,26 @@ def test_station_flies_a_mission_with_mock_px4_vehicles_and_no_simulator(
                              mission="nosim", mavlink_base_port=base, gcs_port=gcs, zenoh_endpoint=endpoint,
                              live=False, startup_timeout_s=60.0, takeoff_timeout_s=90.0)
     station = GroundStation(scenario, options, out, simulated=False)
-    vehicles = processes(["mock_autopilot", "--vehicles", "2", "--base-port", str(base), "--gcs-port", str(gcs)],
-                         tmp_path / "vehicles.log")
-    for vid in (1, 2):
-        processes(["vehicle_agents", "--scenario", "circle", *[a for o in TWO_BOUNDARY_DRONES for a in ("--set", o)],
-                   "--id", str(vid), "--mission", "nosim", "--mavlink-base-port", str(base), "--neighbours", "direct",
-                   "--connect", endpoint], tmp_path / f"agent_{vid}.log")
-    code = asyncio.run(station.run())
-    events = (out / "events.log").read_text()
+    result: dict[str, int] = {}
+    runner = threading.Thread(target=lambda: result.setdefault("code", asyncio.run(station.run())))
+    runner.start()
+    try:
+        deadline = time.monotonic() + 30.0  # the agents join the station's Zenoh hub: it must be open first
+        while "no simulator" not in _read(out / "events.log") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        vehicles = processes(["mock_autopilot", "--vehicles", "2", "--base-port", str(base), "--gcs-port", str(gcs)],
+                             tmp_path / "vehicles.log")
+        for vid in (1, 2):
+            processes(["vehicle_agents", "--scenario", "circle", *[a for o in TWO_BOUNDARY_DRONES for a in ("--set", o)],
+                       "--id", str(vid), "--mission", "nosim", "--mavlink-base-port", str(base),
+                       "--neighbours", "direct", "--connect", endpoint], tmp_path / f"agent_{vid}.log")
+        runner.join(timeout=240.0)
+    finally:
+        if runner.is_alive():
+            station.interrupt()
+            runner.join(timeout=30.0)
+    code = result.get("code")
+    events = _read(out / "events.log")
     assert code == EXIT_OK, events
     assert vehicles.poll() is None, "the vehicles outlive the station: it did not start them and does not stop them"
     assert "no simulator" in events and "flood clock starts" in events and "mission complete" in events
