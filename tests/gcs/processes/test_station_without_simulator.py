@@ -74,8 +74,8 @@ def test_station_flies_a_mission_with_mock_px4_vehicles_and_no_simulator(
         vehicles = processes(["mock_autopilot", "--vehicles", "2", "--base-port", str(base), "--gcs-port", str(gcs)],
                              tmp_path / "vehicles.log")
         for vid in (1, 2):
-            processes(["vehicle_agents", "--scenario", "circle", *[a for o in TWO_BOUNDARY_DRONES for a in ("--set", o)],
-                       "--id", str(vid), "--mission", "nosim", "--mavlink-base-port", str(base),
+            overrides = [arg for override in TWO_BOUNDARY_DRONES for arg in ("--set", override)]
+            processes(["vehicle_agents", "--scenario", "circle", *overrides, "--id", str(vid), "--mission", "nosim", "--mavlink-base-port", str(base),
                        "--neighbours", "direct", "--connect", endpoint], tmp_path / f"agent_{vid}.log")
         runner.join(timeout=240.0)
     finally:
