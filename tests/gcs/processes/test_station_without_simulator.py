@@ -75,8 +75,9 @@ def test_station_flies_a_mission_with_mock_px4_vehicles_and_no_simulator(
                              tmp_path / "vehicles.log")
         for vid in (1, 2):
             overrides = [arg for override in TWO_BOUNDARY_DRONES for arg in ("--set", override)]
-            processes(["vehicle_agents", "--scenario", "circle", *overrides, "--id", str(vid), "--mission", "nosim", "--mavlink-base-port", str(base),
-                       "--neighbours", "direct", "--connect", endpoint], tmp_path / f"agent_{vid}.log")
+            processes(["vehicle_agents", "--scenario", "circle", *overrides, "--id", str(vid), "--mission", "nosim",
+                       "--mavlink-base-port", str(base), "--neighbours", "direct", "--connect", endpoint],
+                      tmp_path / f"agent_{vid}.log")
         runner.join(timeout=240.0)
     finally:
         if runner.is_alive():
