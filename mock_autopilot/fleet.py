@@ -289,7 +289,7 @@ class Fleet:
             if vehicle.killed or wall_s - self._heartbeat_wall_s[i] < WALL_HEARTBEAT_PERIOD_S:
                 continue
             self._heartbeat_wall_s[i] = wall_s
-            message = heartbeat(vehicle, self.clock.now_s())
+            message = heartbeat(vehicle.snapshot(self.clock.now_s()))
             for link in self.links[i].values():
                 link.send(message)
                 link.flush()
