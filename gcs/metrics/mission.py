@@ -20,6 +20,7 @@ from gcs.metrics.centring import centring_errors_m
 from gcs.metrics.coverage import CoverageGrid, footprint_coverage, footprint_side_m
 from gcs.metrics.effort import climb_events_from_altitude, path_lengths_m, speeds_mps
 from gcs.metrics.encircle import ring_closed_time_s
+from gcs.metrics.flood_extent import flood_extent_summary
 from gcs.metrics.polygon_quality import hausdorff_m, polygon_iou
 from gcs.metrics.recovery import recovery_time_s, vehicle_losses
 from gcs.metrics.safety import pairwise_safety
@@ -111,6 +112,7 @@ def compute_mission_metrics(
         "overlap_efficiency_final": _final(cov["overlap_efficiency"]),
         "coverage_mean": _nanmean(cov["coverage"]),
         "flood_area_final_m2": float(flood.area_m2(float(t[-1]))) if n_t else math.nan,
+        **(flood_extent_summary(flood, float(t[0]), float(t[-1])) if n_t else {}),
         "leader_centring_error_final_m": _final(centring),
         "leader_centring_error_last_10s_mean_m": _nanmean(centring[last]),
         "min_pairwise_distance_m": safety.min_distance_m,
