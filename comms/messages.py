@@ -8,7 +8,8 @@ Wire formats:
 * the flood polygon is a GeoJSON Feature (:mod:`comms.flood_polygon`) encoded as UTF-8 JSON, so the rescue centre
   can use it without our code; its version is ``properties.schema``.
 
-The paced clock's messages live in :mod:`comms.pace_messages`, the polygon in :mod:`comms.flood_polygon`, the checks
+The paced clock's messages live in :mod:`comms.pace_messages`, the polygon in :mod:`comms.flood_polygon`, the
+links' own reports (radio bundles and statistics, peers, dropped forgeries) in :mod:`comms.link_messages`, the checks
 every schema shares in :mod:`comms.message_checks`; this module holds the rest and the one codec for them all, and
 names every message type (``from comms.messages import PaceReport`` works for all of them).
 
@@ -32,6 +33,7 @@ import numpy as np
 from comms.flood_polygon import FloodPolygon, FloodPolygonProperties, GeoJsonPolygon  # noqa: F401 (named here too)
 from comms.flood_polygon import flood_polygon_from_enu  # noqa: F401 (named here too)
 from comms.gcs_status import FloodEdgeTruth, MissionEvent, OperatorRequest, VehicleStatusReport
+from comms.link_messages import PeerEvent, RadioBundle, RadioLinkStats, SecurityEvent
 from comms.message_checks import InvalidMessage, Point2, Point3, finite, finite_points
 from comms.pace_messages import CameraStats, PaceAck, PaceReport, ParticipantPace, SimClockTick  # noqa: F401
 from mission_plan.roles import Role
@@ -238,57 +240,6 @@ class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     flood_clock_start_t_s: float | None = None
     target_ids: list[int] = []
     params: dict[str, float] = {}
-
-
-class RadioLinkStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radiostats/1"):
-    """Per-link counters of the radio emulator, published periodically for the ground station and tests.
-
-    ``links`` rows: (sender_id, receiver_id, delivered, lost). ``out_of_range`` counts (message, vehicle) pairs
-    that did not hear a message only because of range; ``rejected`` counts malformed/spoofed agent messages.
-    """
-
-    t_s: float
-    messages_in: int
-    delivered: int
-    lost: int
-    out_of_range: int
-    rejected: int
-    links: list[tuple[int, int, int, int]] = []
-
-
-class RadioBundle(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radio/1"):
-    """What the radio emulator hands one receiver in one delivery tick: (sender_id, NeighbourState payload) pairs.
-
-    Bundling keeps the emulator at one Zenoh put per receiver per tick instead of one per (sender, receiver)
-    link; the payloads are the senders' own bytes, forwarded untouched.
-    """
-
-    t_s: float
-    entries: list[tuple[int, bytes]]
-
-
-class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
-    """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
-
-    t_s: float
-    vehicle_id: int
-    event: Literal["alive", "dead", "stale", "rejoined"]
-    observer: str = ""
-
-
-class SecurityEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/security/1"):
-    """Messages the ground station dropped for their authentication tag (:mod:`comms.signing`), one per kind of
-    attempt per second at most: ``reason`` (``unsigned``, ``bad_tag``, ``wrong_sender``, ``replayed``,
-    ``out_of_window``), the ``key`` they came on, the sender they claimed (``unknown`` when unsigned), how many
-    since the previous report (``count``) and in all (``total``), and the sender's address when Zenoh gives one."""
-
-    t_s: float
-    reason: str
-    key: str
-    claimed_sender: str
-    count: int
-    total: int
-    source: str = ""
 
 
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
