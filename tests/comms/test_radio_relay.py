@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from comms.messages import DecodeStats, GroundTruth, NeighbourState, encode
-from comms.radio_emulator import RadioRelay
+from comms.radio_relay import RadioRelay
 from comms.radio_model import RadioModel
 
 
