@@ -12,7 +12,9 @@ Topologies (``ZenohConfig``):
 
 Callback discipline: our callbacks run directly on Zenoh's threads (no extra Python thread per subscriber). They
 copy the payload into a ``LatestValueBuffer`` and return; they never block, never call Zenoh, and never raise
-(errors are counted in ``callback_errors``).
+(errors are counted in ``callback_errors``). A consumer of thousands of samples a second that wants every one
+(the radio emulator) subscribes with ``subscribe_queue`` instead: Zenoh keeps the samples in its own bounded ring
+and the consumer's thread takes them, so no Python runs on Zenoh's threads at all.
 Open sessions only after any ``fork``. ``close`` undeclares everything and closes the session; an ``atexit`` hook
 closes sessions a caller forgot, so the interpreter never hangs at exit.
 
