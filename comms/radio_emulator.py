@@ -88,8 +88,9 @@ class RadioEmulator:
 
     @property
     def input_gaps(self) -> int:
-        """States the senders' sequence numbers say were sent but never reached the emulator (transport or a full
-        input ring): non-zero only when Zenoh or the emulator falls behind."""
+        """States the senders' sequence numbers say were sent but never reached the relay (lost in transport, a
+        full input ring, or superseded by a newer one from the same sender within a cycle): non-zero only when
+        Zenoh or the emulator falls behind."""
         return self.relay.counters.input_gaps
 
     def __enter__(self) -> RadioEmulator:
@@ -119,10 +120,12 @@ class RadioEmulator:
         self._run()
 
     def _take_states(self, rx_s: float) -> None:
-        """Hand every queued state to the relay as received at ``rx_s`` (relay clock)."""
+        """Hand the queued states to the relay as received at ``rx_s`` (relay clock), the newest per sender's key:
+        a state superseded within one delivery cycle happens only when the emulator falls behind, and then the
+        newest is what the radio should carry (the skipped ones count as ``input_gaps``)."""
         relay, known = self.relay, self._vehicle_of_key
         now_us = wall_clock_us()
-        for key, payload in self._states.drain():
+        for key, payload in dict(self._states.drain()).items():
             vehicle_id = known.get(key, -1)
             if vehicle_id == -1:
                 vehicle_id = self.keys.vehicle_id_of(key)
