@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mission_plan.control_params import ControlParams, ControlParamsError, params_for_mode
+from mission_plan.control_params import MODES, ControlParams, ControlParamsError, params_for_mode
 from mission_plan.dynamics import KinematicLimits
 from mission_plan.fleet import AUTO_LAUNCH, VehicleSpec, build_fleet, check_fleet_keys
 from mission_plan.home import GeodeticHome
@@ -204,6 +204,6 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         polygon_period_s=number(raw, "polygon_period_s", 1.0, "", positive=True),
         source_dir=source_dir,
     )
-    for mode in ("paper", "improved"):
+    for mode in MODES:
         scenario.control_params(mode)
     return scenario
