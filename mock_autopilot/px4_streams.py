@@ -31,6 +31,7 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "VFR_HUD": 10.0,
             "BATTERY_STATUS": 0.5,
             "POSITION_TARGET_LOCAL_NED": 10.0,
+            "WIND_COV": 1.0,
         },
         GCS: {
             "HEARTBEAT": 1.0,
@@ -45,6 +46,7 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "VFR_HUD": 4.0,
             "BATTERY_STATUS": 0.5,
             "POSITION_TARGET_LOCAL_NED": 1.5,
+            "WIND_COV": 0.5,
         },
     },
     "reduced": {
@@ -61,6 +63,7 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "VFR_HUD": 1.0,
             "BATTERY_STATUS": 0.5,
             "POSITION_TARGET_LOCAL_NED": 2.0,
+            "WIND_COV": 0.5,
         },
         GCS: {
             "HEARTBEAT": 1.0,
