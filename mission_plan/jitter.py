@@ -1,8 +1,8 @@
 """Seeded jitter of launch pads and agent start times: what makes two seeds of one scenario two different runs.
 
 Real launches never put a drone exactly on its mark, nor start every agent in the same instant. Pads move by up
-to ``fleet.pad_jitter_m`` per axis (east, north), start times by up to ``fleet.start_jitter_s`` after the flood
-clock starts; both are drawn from the mission seed on their own streams, so they are the same in both engines.
+to ``fleet.pad_jitter_m`` (uniform over the disc of that radius, so two pads ``s`` apart stay at least
+``s - 2 pad_jitter_m`` apart), start times by up to ``fleet.start_jitter_s`` after the flood clock starts; both are drawn from the mission seed on their own streams, so they are the same in both engines.
 """
 
 from __future__ import annotations
@@ -19,10 +19,13 @@ START_STREAM = 0x57A
 
 
 def jittered_pads(vehicles: tuple[VehicleSpec, ...], jitter_m: float, seed: int) -> tuple[VehicleSpec, ...]:
-    """Each pad moved by a uniform draw in [-jitter_m, jitter_m] east and north (unchanged when jitter_m is 0)."""
+    """Each pad moved by a uniform draw over the disc of radius ``jitter_m`` [m] (unchanged when it is 0)."""
     if jitter_m == 0.0:
         return vehicles
-    offsets = np.random.default_rng([PAD_STREAM, seed]).uniform(-jitter_m, jitter_m, (len(vehicles), 2))
+    rng = np.random.default_rng([PAD_STREAM, seed])
+    radius = jitter_m * np.sqrt(rng.uniform(0.0, 1.0, len(vehicles)))
+    bearing = rng.uniform(0.0, 2.0 * np.pi, len(vehicles))
+    offsets = np.column_stack((radius * np.cos(bearing), radius * np.sin(bearing)))
     return tuple(
         replace(v, pad_enu_m=(v.pad_enu_m[0] + float(d[0]), v.pad_enu_m[1] + float(d[1]), v.pad_enu_m[2]))
         for v, d in zip(vehicles, offsets)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -86,7 +87,7 @@ def test_jitter_is_seeded_bounded_and_seed_dependent() -> None:
     one, again, other = (jittered_pads(vehicles, 0.2, seed) for seed in (1, 1, 2))
     assert one == again and one != other
     for moved, original in zip(one, vehicles):
-        assert all(abs(a - b) <= 0.2 for a, b in zip(moved.pad_enu_m[:2], original.pad_enu_m[:2]))
+        assert math.dist(moved.pad_enu_m[:2], original.pad_enu_m[:2]) <= 0.2
     ids = tuple(v.vehicle_id for v in vehicles)
     delays = start_delays_s(ids, 0.2, 1)
     assert delays == start_delays_s(ids, 0.2, 1) != start_delays_s(ids, 0.2, 2)
