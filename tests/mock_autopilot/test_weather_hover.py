@@ -47,8 +47,10 @@ def test_px4_hold_in_wind_stays_within_the_issue_bounds(seed: int) -> None:
     assert roll < 0.0  # a west wind pushes east: the drone leans into it (left)
 
 
-def test_kinematic_backend_under_a_position_loop_stays_within_the_issue_bounds() -> None:
-    backend = KinematicBackend(KinematicLimits(), 1, Weather(WINDY, seed=3), [1], [True])
+def _kinematic_hover(weather: Weather) -> tuple[np.ndarray, np.ndarray, object]:
+    """Truth errors from the start point of a kinematic vehicle whose position loop (PX4's MPC_XY_P) holds its
+    estimate there, and the last state."""
+    backend = KinematicBackend(KinematicLimits(), 1, weather, [1], [True])
     state = backend.hover_start(10.0)
     target = state.position_ned_m[0].copy()
     truth = []
@@ -56,7 +58,11 @@ def test_kinematic_backend_under_a_position_loop_stays_within_the_issue_bounds()
         command = 0.95 * (target - state.reported_position_ned_m[0])
         state = backend.step(command[None, :], np.zeros(1), np.array([True]), [VehicleRequest.NONE], DT_S)
         truth.append(state.position_ned_m[0].copy())
-    errors = _errors(truth, target)
+    return _errors(truth, target), target, state
+
+
+def test_kinematic_backend_under_a_position_loop_stays_within_the_issue_bounds() -> None:
+    errors, _, _ = _kinematic_hover(Weather(WINDY, seed=3))
     assert np.percentile(errors, 95) <= 1.5
     assert errors.max() <= 3.0
 
@@ -64,14 +70,6 @@ def test_kinematic_backend_under_a_position_loop_stays_within_the_issue_bounds()
 def test_hovering_drone_wanders_with_its_gps() -> None:
     """Still air, noisy GPS: the autopilot holds its estimate, so the truth wanders by about the GPS error."""
     sensors = SensorSpec(gps_white_sigma_m=0.3, gps_bias_sigma_m=0.5, gps_bias_tau_s=60.0)
-    backend = KinematicBackend(KinematicLimits(), 1, Weather(WindSpec(), sensors, seed=4), [1], [True])
-    state = backend.hover_start(10.0)
-    target = state.position_ned_m[0].copy()
-    truth = []
-    for _ in range(int(HOVER_S / DT_S)):
-        command = 0.95 * (target - state.reported_position_ned_m[0])
-        state = backend.step(command[None, :], np.zeros(1), np.array([True]), [VehicleRequest.NONE], DT_S)
-        truth.append(state.position_ned_m[0].copy())
-    errors = _errors(truth, target)
+    errors, _, state = _kinematic_hover(Weather(WindSpec(), sensors, seed=4))
     assert 0.1 < float(np.median(errors)) < 2.0
     assert not np.allclose(state.reported_position_ned_m, state.position_ned_m)
