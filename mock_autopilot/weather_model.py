@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from mission_plan.weather import SensorSpec, WindSpec
 from mock_autopilot.sensor_errors import (
+    SENSOR_RATE_HZ,
     estimated_position_ned_m,
     estimated_yaw_rad,
     initial_sensor_errors,
@@ -26,6 +27,10 @@ from mock_autopilot.world.wind import dryden_scales, initial_wind_state, mean_wi
 
 WIND_ESTIMATE_TAU_S = 5.0
 """Time constant [s] of the autopilot's wind estimate (PX4's EKF2 wind states settle over seconds)."""
+WIND_UPDATE_S = 0.1
+"""Period [s] at which the air is advanced (held in between). The filters are discretised exactly, so a coarser
+step keeps the Dryden statistics; 0.1 s is far below the shortest correlation time (L_w / V: 2 s at 10 m in
+5 m/s), and it spares the mock PX4's 50 Hz physics four of five filter updates."""
 WEATHER_STREAM = 0x57E1
 """Salt of the weather's random stream, so it never repeats another consumer of the mission seed."""
 
@@ -72,14 +77,22 @@ class WeatherModel:
         self.wind_ned_mps = np.tile(mean, (n, 1))
         self.wind_estimate_ned_mps = np.zeros((n, 3))
         self.thrust_ned_mps2 = np.zeros((n, 3))
+        self._wind_t_s: float | None = None
+        self._sensor_t_s: float | None = None
+        self._moved_ned_m = np.zeros((n, 3))
 
     def air_step(self, t_s: float, dt_s: float, reference_velocity_ned_mps: NDArray[np.float64],
                  reference_accel_ned_mps2: NDArray[np.float64], airborne: NDArray[np.bool_]) -> NDArray[np.float64]:
         """Advance the air and the velocity loop's fight against it by ``dt_s``; returns the velocity error the
         wind leaves (N,3) [m/s], zero for vehicles on the ground (their error and integrator reset)."""
-        velocity = reference_velocity_ned_mps + self.disturbance.error_mps
-        self.wind_ned_mps, self.wind_state = wind_step(self.wind_state, self.weather.wind, self.scales, t_s, dt_s,
-                                                       velocity, self.rng)
+        t_next = t_s + dt_s
+        if self._wind_t_s is None:
+            self._wind_t_s = t_s
+        if t_next >= self._wind_t_s + WIND_UPDATE_S - 1e-9:
+            velocity = reference_velocity_ned_mps + self.disturbance.error_mps
+            self.wind_ned_mps, self.wind_state = wind_step(self.wind_state, self.weather.wind, self.scales,
+                                                           self._wind_t_s, t_next - self._wind_t_s, velocity, self.rng)
+            self._wind_t_s = t_next
         felt = np.where(airborne[:, None], self.wind_ned_mps, 0.0)
         state, thrust = disturbance_step(self.disturbance, reference_velocity_ned_mps, reference_accel_ned_mps2,
                                          felt, self.gains, dt_s)
@@ -94,7 +107,16 @@ class WeatherModel:
         return state.error_mps
 
     def sensor_step(self, t_s: float, dt_s: float, moved_ned_m: NDArray[np.float64]) -> None:
-        self.sensors = sensor_step(self.sensors, self.weather.sensors, t_s, dt_s, moved_ned_m, self.rng)
+        """Advance the sensor errors by ``dt_s``; they change once per measurement (``SENSOR_RATE_HZ``), so the
+        displacement is summed until the next one is due."""
+        if self._sensor_t_s is None:
+            self._sensor_t_s, self._moved_ned_m = t_s, np.zeros_like(moved_ned_m)
+        self._moved_ned_m = self._moved_ned_m + moved_ned_m
+        t_next = t_s + dt_s
+        if t_next >= self._sensor_t_s + 1.0 / SENSOR_RATE_HZ - 1e-9:
+            self.sensors = sensor_step(self.sensors, self.weather.sensors, self._sensor_t_s, t_next - self._sensor_t_s,
+                                       self._moved_ned_m, self.rng)
+            self._sensor_t_s, self._moved_ned_m = t_next, np.zeros_like(moved_ned_m)
 
     def estimate(self, true_ned_m: NDArray[np.float64], true_yaw_rad: NDArray[np.float64]
                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
