@@ -2,7 +2,13 @@
 estimators get wrong. One object per backend (the lockstep kinematics: the fleet; the mock PX4: one vehicle),
 so every vehicle backend flies the same laws (:mod:`mock_autopilot.world.wind`,
 :mod:`mock_autopilot.wind_response`, :mod:`mock_autopilot.sensor_errors`); this class only keeps their state and
-the vehicle's random stream, drawn from the mission seed and the vehicle's id.
+random streams.
+
+The air is one realisation for the whole mission, drawn from the mission seed alone and advected past the swarm at
+the mean wind (Taylor's frozen turbulence seen from a slow swarm): a swarm spans tens of metres, less than the
+horizontal Dryden scale (67 m at 10 m), so neighbours a few metres apart feel the same eddies and gusts, as they do
+outdoors; independent air per vehicle would shake neighbours against each other by sqrt(2) sigma. Each vehicle's
+sensor errors are its own, drawn from the mission seed and the vehicle's id.
 """
 
 from __future__ import annotations
@@ -32,7 +38,12 @@ WIND_UPDATE_S = 0.1
 step keeps the Dryden statistics; 0.1 s is far below the shortest correlation time (L_w / V: 2 s at 10 m in
 5 m/s), and it spares the mock PX4's 50 Hz physics four of five filter updates."""
 WEATHER_STREAM = 0x57E1
-"""Salt of the weather's random stream, so it never repeats another consumer of the mission seed."""
+AIR_STREAM = 0xA1
+"""Salts of the weather's random streams, so they never repeat another consumer of the mission seed."""
+
+
+STILL = np.zeros((1, 3))
+"""The swarm's ground velocity as the air sees it: at rest, so the eddies pass at the mean wind."""
 
 
 @dataclass(frozen=True)
@@ -69,8 +80,9 @@ class WeatherModel:
         self.gains = gains
         self.has_gps = np.asarray(has_gps, dtype=bool)
         self.rng = np.random.default_rng([WEATHER_STREAM, weather.seed, *[int(i) for i in vehicle_ids]])
+        self.air_rng = np.random.default_rng([WEATHER_STREAM, AIR_STREAM, weather.seed])
         self.scales = dryden_scales(weather.height_m, weather.wind.turbulence)
-        self.wind_state = initial_wind_state(n, self.scales, weather.wind.gust_interval_s, self.rng)
+        self.wind_state = initial_wind_state(1, self.scales, weather.wind.gust_interval_s, self.air_rng)
         self.disturbance = no_disturbance(n)
         self.sensors = initial_sensor_errors(n, weather.sensors, self.rng)
         mean = mean_wind_ned_mps(weather.wind.speed_mps, weather.wind.from_deg)
@@ -89,9 +101,9 @@ class WeatherModel:
         if self._wind_t_s is None:
             self._wind_t_s = t_s
         if t_next >= self._wind_t_s + WIND_UPDATE_S - 1e-9:
-            velocity = reference_velocity_ned_mps + self.disturbance.error_mps
-            self.wind_ned_mps, self.wind_state = wind_step(self.wind_state, self.weather.wind, self.scales,
-                                                           self._wind_t_s, t_next - self._wind_t_s, velocity, self.rng)
+            air, self.wind_state = wind_step(self.wind_state, self.weather.wind, self.scales, self._wind_t_s,
+                                             t_next - self._wind_t_s, STILL, self.air_rng)
+            self.wind_ned_mps = np.repeat(air, len(self.wind_ned_mps), axis=0)
             self._wind_t_s = t_next
         felt = np.where(airborne[:, None], self.wind_ned_mps, 0.0)
         state, thrust = disturbance_step(self.disturbance, reference_velocity_ned_mps, reference_accel_ned_mps2,
