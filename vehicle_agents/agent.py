@@ -288,5 +288,7 @@ class Agent:
         if image is None:
             self._perception = PerceptionResult.no_measurement()
             return
-        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, frame.yaw_ned_rad)
+        # Edge points go to the ground with the heading the autopilot reports (ATTITUDE), not the simulator's: a
+        # camera without a gimbal knows only its vehicle's estimate.
+        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, self.link.telemetry.yaw_ned_rad)
         self.stats.frames_processed += 1

@@ -115,10 +115,13 @@ def telemetry_of(state: BackendState, pads_enu_m: NDArray[np.float64], gps: NDAr
 
 
 def _perception_for(
-    flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int
+    flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int,
+    heading_error_rad: float = 0.0,
 ) -> PerceptionResult:
+    """The camera's frame (rendered heading north: the ground does not care which way the drone faces) perceived
+    with the heading the autopilot reports, i.e. off by its heading error, as an agent projects its edge points."""
     frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed)
-    return perceive(frame.image_bgr, float(position_enu_m[2]), camera.fov_deg, 0.0)
+    return perceive(frame.image_bgr, float(position_enu_m[2]), camera.fov_deg, heading_error_rad)
 
 
 def run_lockstep(
@@ -198,7 +201,8 @@ def run_lockstep(
             next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
             for i, vehicle in enumerate(vehicles):
                 if state.alive[i] and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
-                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed)
+                    heading_error = float(state.reported_yaw_ned_rad[i] - state.yaw_ned_rad[i])
+                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, heading_error)
                     frames += 1
         orders = tuple(started if t_s >= delay - 1e-9 else waiting for delay in delays_s)
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, pads, gps, scenario),
