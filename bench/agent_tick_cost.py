@@ -10,14 +10,17 @@ Threads are grouped by what they are:
   shared-memory watchdog threads, which Zenoh names;
 * the rest inherit the name ``python``: MAVSDK's C++ threads (asio I/O, user callbacks, HTTP loader), the asyncio
   default executor's worker threads, OpenBLAS's idle pool. ``label_threads_gdb`` tells them apart from their native
-  stacks; gdb pauses the process it reads, so only one agent (the reference) is labelled, during take-off.
+  stacks (``--gdb``); gdb pauses the process it reads, so only one agent (the reference) is labelled, during
+  take-off. On a loaded host the pause can outlast the agent's 2 s autopilot-silence rule and end that agent's
+  flight (exit code 3), so labelling is asked for, not the default.
 
 Memory is PSS (``/proc/<pid>/smaps_rollup``): agents share the interpreter, numpy, OpenCV, MAVSDK and Zenoh pages,
 and RSS would count those once per agent.
 
 Usage (one mission, per-thread table)::
 
-    python bench/agent_tick_cost.py --duration 30                       # circle, 13 vehicles, 20 Hz
+    python bench/agent_tick_cost.py --duration 30                       # circle, 13 vehicles, 20 Hz, paced clock
+    python bench/agent_tick_cost.py --duration 30 --clock free          # the agents' own wall-clock loop
     python bench/agent_tick_cost.py --duration 30 --set control_rate_hz=10
     python bench/agent_tick_cost.py --mavsdk-streams                    # MAVSDK's cost per telemetry profile
 
@@ -274,7 +277,9 @@ def main() -> int:
     p.add_argument("--speed", type=float, default=1.0)
     p.add_argument("--duration", type=float, default=30.0)
     p.add_argument("--set", action="append", default=[], dest="overrides", metavar="KEY=VALUE")
-    p.add_argument("--no-gdb", action="store_true", help="do not label MAVSDK's unnamed threads with gdb")
+    p.add_argument("--clock", choices=("paced", "free"), default="paced")
+    p.add_argument("--gdb", action="store_true", help="label MAVSDK's unnamed threads from one agent's native stacks "
+                   "(gdb pauses that agent during take-off)")
     p.add_argument("--out", type=Path, default=Path("runs/bench-agent-tick"))
     p.add_argument("--mavsdk-streams", action="store_true", help="MAVSDK's own cost per telemetry profile instead")
     p.add_argument("--repeat", type=int, default=2, help="with --mavsdk-streams: runs per case")
@@ -292,7 +297,7 @@ def main() -> int:
         return 0
     from bench.mission_processes import run_once  # noqa: PLC0415 - heavy (the ground station) and CLI-only
     row = run_once(args.scenario, tuple(args.overrides), args.speed, args.duration, args.out, args.mode,
-                   gdb_labels=not args.no_gdb)
+                   gdb_labels=args.gdb, clock=args.clock)
     print(json.dumps(row), flush=True)
     for title, key in (("median over agents", "agent_ms_per_tick_by_thread"),
                        ("reference agent, gdb labels", "reference_agent_ms_per_tick_by_thread")):

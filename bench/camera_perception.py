@@ -26,10 +26,12 @@ import numpy as np
 
 from mock_autopilot.camera.appearance import ground_textures
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import render_frame
+from gcs.scenario import load_scenario
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
 from mock_autopilot.camera.truth import ACCURACY_FLOODS, median_distance_to_shore_m, truth_reference
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
 
 Pose = tuple[float, tuple[float, float, float], float]
@@ -49,6 +51,19 @@ def poses(flood: FloodModel, n: int, altitude_m: float, seed: int) -> list[Pose]
     return out
 
 
+def flood_named(name: str, seed: int) -> FloodModel:
+    """A flood of :data:`ACCURACY_FLOODS`, or a bundled scenario's own flood (``breach``, ``river``, ``pluvial``)."""
+    if name in ACCURACY_FLOODS:
+        return flood_model_from_config(ACCURACY_FLOODS[name], seed=seed)
+    scenario = load_scenario(name)
+    return flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+
+
+def height_m(flood: FloodModel, position: tuple[float, float, float]) -> float:
+    """What the rangefinder reads, which perception scales by (the altitude over flat ground)."""
+    return max(height_above_ground_m(flood, position), MIN_ALTITUDE_M)
+
+
 def percentiles_ms(samples_s: list[float]) -> dict[str, float]:
     a = np.asarray(samples_s) * 1e3
     return {"p50": round(float(np.percentile(a, 50)), 3), "p99": round(float(np.percentile(a, 99)), 3),
@@ -57,7 +72,7 @@ def percentiles_ms(samples_s: list[float]) -> dict[str, float]:
 
 def time_model(name: str, camera: CameraModel, frames: int) -> dict[str, Any]:
     t0 = time.perf_counter()
-    flood = flood_model_from_config(ACCURACY_FLOODS[name], seed=1)
+    flood = flood_named(name, seed=1)
     build_s = time.perf_counter() - t0
     plan = poses(flood, frames, 10.0, seed=5)
     render_frame(flood, plan[0][0], plan[0][1], plan[0][2], camera, 1)  # warm caches (textures, noise bank)
@@ -67,7 +82,7 @@ def time_model(name: str, camera: CameraModel, frames: int) -> dict[str, Any]:
         a, ca = time.perf_counter(), time.thread_time()
         frame = render_frame(flood, t_s, position, yaw, camera, 1)
         b, cb = time.perf_counter(), time.thread_time()
-        perceive(frame.image_bgr, position[2], camera.fov_deg, yaw)
+        perceive(frame.image_bgr, height_m(flood, position), camera.fov_deg, yaw)
         c, cc = time.perf_counter(), time.thread_time()
         render_s.append(b - a)
         perceive_s.append(c - b)
@@ -80,15 +95,17 @@ def time_model(name: str, camera: CameraModel, frames: int) -> dict[str, Any]:
             "render_cpu": percentiles_ms(render_cpu), "perceive_cpu": percentiles_ms(perceive_cpu)}
 
 
-def accuracy(name: str, frames: int, camera: CameraModel, altitude_m: float = 10.0) -> dict[str, Any]:
+def accuracy(name: str, frames: int, camera: CameraModel, altitude_m: float = 10.0, pose_seed: int = 11,
+             appearance_seed: int = 3) -> dict[str, Any]:
     """Pooled water IoU, per-frame IoU p5, midpoint / centroid error, edge-point error, flag agreement."""
-    flood = flood_model_from_config(ACCURACY_FLOODS[name], seed=3)
+    flood = flood_named(name, seed=3)
     inter = union = 0
     ious, mid, cen, edge = [], [], [], []
     flag_errors = 0
-    for t_s, position, yaw in poses(flood, frames, altitude_m, seed=11):
-        frame = render_frame(flood, t_s, position, yaw, camera, 3)
-        result = perceive(frame.image_bgr, altitude_m, camera.fov_deg, yaw)
+    for t_s, position, yaw in poses(flood, frames, altitude_m, seed=pose_seed):
+        frame = render_frame(flood, t_s, position, yaw, camera, appearance_seed)
+        agl_m = height_m(flood, position)
+        result = perceive(frame.image_bgr, agl_m, camera.fov_deg, yaw)
         truth = frame.water_mask
         mask, _, _ = segment_water(frame.image_bgr)
         mask = mask if mask is not None else np.full(truth.shape, bool(result.only_water))
@@ -105,7 +122,7 @@ def accuracy(name: str, frames: int, camera: CameraModel, altitude_m: float = 10
         if not both:
             continue
         ious.append(float((mask & truth).sum() / (mask | truth).sum()))
-        ref = truth_reference(camera, position, yaw, truth)
+        ref = truth_reference(camera, (position[0], position[1], agl_m), yaw, truth)
         mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - ref.midpoint_en_m)))
         cen.append(max(float(np.linalg.norm(result.water_centroid_en_m - ref.water_centroid_en_m)),
                        float(np.linalg.norm(result.land_centroid_en_m - ref.land_centroid_en_m))))
@@ -130,7 +147,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--frames", type=int, default=2000, help="timed frames per model and size")
     parser.add_argument("--sizes", default="128x128,160x120", help="comma-separated WxH list")
-    parser.add_argument("--models", default=",".join(ACCURACY_FLOODS), help="comma-separated flood models")
+    parser.add_argument("--models", default=",".join(ACCURACY_FLOODS),
+                        help="comma-separated flood models, or bundled scenarios (breach, river, pluvial)")
+    parser.add_argument("--pose-seed", type=int, default=11, help="seed of the accuracy poses")
+    parser.add_argument("--appearance-seed", type=int, default=3, help="texture and sensor-noise seed for accuracy")
     parser.add_argument("--accuracy", type=int, default=0, help="also measure accuracy over this many frames")
     parser.add_argument("--json", default=None, help="write all results to this file")
     args = parser.parse_args()
@@ -158,7 +178,8 @@ def main() -> None:
               "edge median)")
         for camera in cameras:
             for name in models:
-                a = accuracy(name, args.accuracy, camera)
+                a = accuracy(name, args.accuracy, camera, pose_seed=args.pose_seed,
+                             appearance_seed=args.appearance_seed)
                 results["accuracy"].append(a)
                 print(f"{name:10} {a['size']:8} IoU {a['pooled_iou']:.4f} p5 {a['iou_p5']:.4f}  midpoint "
                       f"{a['midpoint_err_m_p95']:.3f}/{a['midpoint_err_m_max']:.3f} m"

@@ -72,14 +72,14 @@ def rss_mb(pid: int) -> float | None:
 
 
 def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, duration_s: float, out_dir: Path,
-             mode: str, gdb_labels: bool = False) -> dict[str, object]:
+             mode: str, gdb_labels: bool = False, clock: str = "paced") -> dict[str, object]:
     """Fly one mission and measure it; ``gdb_labels`` names MAVSDK's unnamed threads from one agent's stacks,
     read during take-off (gdb pauses that agent for about a second, outside the measured MISSION phase)."""
     scenario = load_scenario(scenario_name, overrides)
     options = ProcessOptions(scenario_arg=scenario_name, overrides=overrides, mode=mode, speed=speed,
                              duration_s=duration_s, out_dir=out_dir, mission="bench", mavlink_base_port=27000,
                              gcs_port=27900, zenoh_endpoint="tcp/127.0.0.1:27960", live=False,
-                             startup_timeout_s=180.0)
+                             startup_timeout_s=180.0, clock=clock)
     out_dir.mkdir(parents=True, exist_ok=True)
     station = GroundStation(scenario, options, out_dir)
     result: dict[str, int] = {}
@@ -94,6 +94,7 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     reference: tuple[int, dict[int, str]] | None = None
     gdb_thread: threading.Thread | None = None
     mission_wall = [0.0, 0.0]
+    mission_span_s: dict[str, list[float]] = {}
     gcs_pid = os.getpid()
     while thread.is_alive():
         time.sleep(0.25)
@@ -121,6 +122,7 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
                 if name.startswith("agent_"):
                     window = thread_windows.setdefault(name, ThreadCpuWindow(pid))
                     window.sample()
+                    mission_span_s.setdefault(name, [station.mission_t_s, 0.0])[1] = station.mission_t_s
                     pss = pss_mb(pid)
                     if pss is not None:
                         pss_samples.setdefault(name, []).append(pss)
@@ -130,6 +132,8 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     thread.join()
     wall_s = max(mission_wall[1] - mission_wall[0], 1e-9)
     cpu_pct = {name: 100.0 * (last_cpu[name] - start_cpu[name]) / wall_s for name in last_cpu}
+    spans = sorted(span[1] - span[0] for span in mission_span_s.values())
+    real_time_factor = spans[len(spans) // 2] / wall_s if spans else float("nan")
     if gdb_thread is not None:
         gdb_thread.join(timeout=60.0)
     rates, overruns = [], []
@@ -140,7 +144,10 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
             rates.append(float(match.group(2)))
             overruns.append(int(match.group(3)))
             rate_by_agent[log.stem] = float(match.group(2))
-    steps = {name: rate_by_agent.get(name, 0.0) * speed * window.wall_s for name, window in thread_windows.items()}
+    # Steps inside each agent's window: its achieved rate [Hz of mission time] times the mission time the window
+    # spanned (under the paced clock mission time runs at whatever factor the host gives, not at ``speed``).
+    steps = {name: rate_by_agent.get(name, 0.0) * (mission_span_s[name][1] - mission_span_s[name][0])
+             for name in thread_windows}
     tick_tables = [per_tick_ms(window.cpu_by_group(), steps[name])
                    for name, window in thread_windows.items() if steps[name] > 0]
     tick_by_thread = median_table(t for t in tick_tables if t)
@@ -170,6 +177,8 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
         "vehicles": len(scenario.vehicles),
         "exit_code": result.get("code"),
         "wall_s": time.monotonic() - wall_start,
+        "clock": clock,
+        "real_time_factor": real_time_factor,
         "nominal_rate_hz": scenario.control_rate_hz,
         "rate_min_hz": min(rates) if rates else float("nan"),
         "rate_median_hz": statistics.median(rates) if rates else float("nan"),
@@ -202,10 +211,12 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
 
 
 def holds(row: dict[str, object]) -> bool:
-    """The mission held its speed: it completed, every agent ran at >= 90 % of the nominal control rate, and the
-    simulator delivered >= 90 % of the nominal camera frames."""
+    """The mission held its speed: it completed, every agent ran at >= 90 % of the nominal control rate, the
+    simulator delivered >= 90 % of the nominal camera frames, and mission time ran at >= 90 % of the speed asked
+    for (a paced clock keeps every rate by slowing down instead: the real-time factor is what it gives up)."""
     return (row["exit_code"] == 0 and float(row["rate_min_hz"]) >= 0.9 * float(row["nominal_rate_hz"])  # type: ignore[arg-type]
-            and float(row["camera_hz"]) >= 0.9 * float(row["camera_nominal_hz"]))  # type: ignore[arg-type]
+            and float(row["camera_hz"]) >= 0.9 * float(row["camera_nominal_hz"])  # type: ignore[arg-type]
+            and float(row["real_time_factor"]) >= 0.9 * float(row["speed"]))  # type: ignore[arg-type]
 
 
 def main() -> int:
@@ -220,6 +231,7 @@ def main() -> int:
                    help="override a scenario parameter for every run, e.g. control_rate_hz=10")
     p.add_argument("--gdb-labels", action="store_true", help="split MAVSDK's unnamed threads by their native stacks "
                    "(gdb pauses one agent for about a second during take-off)")
+    p.add_argument("--clock", choices=("paced", "free"), default="paced")
     p.add_argument("--out", type=Path, default=Path("runs/bench-processes"))
     args = p.parse_args()
     common = tuple(args.overrides)
@@ -233,13 +245,13 @@ def main() -> int:
     for speed, overrides in runs:
         tag = f"x{speed:g}" + ("-" + "-".join(o.split("=")[1] for o in overrides) if overrides else "")
         row = run_once(args.scenario, common + overrides, speed, args.duration, args.out / tag, args.mode,
-                       gdb_labels=args.gdb_labels)
+                       gdb_labels=args.gdb_labels, clock=args.clock)
         row["holds"] = holds(row)
         rows.append(row)
         print(json.dumps(row), flush=True)
         if sizes and not row["holds"]:
             break  # fleet scaling: sizes go up, the first one that does not hold ends the search
-    keys = ["speed", "vehicles", "exit_code", "holds", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
+    keys = ["speed", "vehicles", "exit_code", "holds", "real_time_factor", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
             "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_ms_per_tick", "agent_rss_mb_median",
             "agent_pss_mb_median", "sim_cpu_pct", "sim_rss_mb",
             "cameras_cpu_pct", "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",

@@ -5,6 +5,10 @@ Public (documented in the README; any Zenoh client can subscribe):
 * ``floodwatch/<mission>/uav/<id>/state`` — each agent's ``NeighbourState`` (MessagePack), always published by
   the agent itself whether or not the radio emulator runs;
 * ``floodwatch/<mission>/gcs/polygon`` — the caged flood polygon, a GeoJSON Feature (JSON);
+* ``floodwatch/<mission>/gcs/vehicles`` — ``VehicleStatusReport``: every vehicle's status (MessagePack, >= 2 Hz);
+* ``floodwatch/<mission>/gcs/events`` — ``MissionEvent``: the ground station's event log and alerts (and the
+  ``PeerEvent`` of a ``SwarmLink.report_events`` caller, and ``SecurityEvent``: messages the ground station
+  dropped for their authentication tag);
 * ``floodwatch/<mission>/alive/<id>`` — liveliness tokens: a vehicle's agent (``<id>`` = vehicle id) or a service
   (``gcs``, ``radio``, ``sim``); the token disappears when the process exits or is killed.
 
@@ -17,7 +21,8 @@ Internal (simulation and mission plumbing):
 * ``floodwatch/<mission>/radio/stats`` — ``RadioLinkStats`` (per-link counters);
 * ``floodwatch/<mission>/uav/<id>/edge`` — ``BoundaryEdgePoints`` seen by a boundary drone;
 * ``floodwatch/<mission>/gcs/command`` — ``MissionCommand`` (state-carrying, so newest-wins is right);
-* ``floodwatch/<mission>/gcs/events`` — ``PeerEvent`` (a vehicle declared dead or stale by the ground station);
+* ``floodwatch/<mission>/gcs/operator`` — ``OperatorRequest``: hold / resume / land-all from a dashboard;
+* ``floodwatch/<mission>/sim/flood_edge`` — ``FloodEdgeTruth``: the simulated flood's true edge;
 * ``floodwatch/<mission>/sim/clock`` — ``SimClockTick``: the paced simulation clock reached a control tick;
 * ``floodwatch/<mission>/sim/pace/<participant>`` — ``PaceAck``: an agent (vehicle id), the cameras or the radio
   has done its part for a tick;
@@ -120,6 +125,18 @@ class MissionKeys:
     @property
     def events(self) -> str:
         return f"{self.prefix}/gcs/events"
+
+    @property
+    def vehicles(self) -> str:
+        return f"{self.prefix}/gcs/vehicles"
+
+    @property
+    def operator(self) -> str:
+        return f"{self.prefix}/gcs/operator"
+
+    @property
+    def flood_edge(self) -> str:
+        return f"{self.prefix}/sim/flood_edge"
 
     @property
     def clock(self) -> str:

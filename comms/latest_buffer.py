@@ -22,13 +22,15 @@ SampleKind = Literal["put", "delete"]
 
 @dataclass(frozen=True)
 class Received:
-    """One sample as handed over: the key it came on, its raw payload, PUT/DELETE, and when it arrived
-    (``time.monotonic()`` of this host, comparable across processes on one machine)."""
+    """One sample as handed over: the key it came on, its raw payload, PUT/DELETE, when it arrived
+    (``time.monotonic()`` of this host, comparable across processes on one machine), and the Zenoh id of the session
+    that published it when the sample says so (empty otherwise)."""
 
     key: str
     payload: bytes
     kind: SampleKind
     rx_monotonic_s: float
+    source: str = ""
 
 
 class LatestValueBuffer:
@@ -42,7 +44,7 @@ class LatestValueBuffer:
         self.max_keys = max_keys
         self._pending: dict[str, Received] = {}
         self._cond = threading.Condition(threading.Lock())
-        self._async_waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Event]] = []
+        self._async_waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Future[None]]] = []
         self.received = 0
         self.superseded = 0
         self.rejected = 0
@@ -51,14 +53,16 @@ class LatestValueBuffer:
         with self._cond:
             return len(self._pending)
 
-    def put(self, key: str, payload: bytes, kind: SampleKind = "put", rx_monotonic_s: float | None = None) -> None:
+    def put(self, key: str, payload: bytes, kind: SampleKind = "put", rx_monotonic_s: float | None = None,
+            source: str = "") -> None:
         """Store one sample (called from Zenoh threads: O(1), no I/O, no Zenoh calls)."""
-        self.put_many([(key, payload)], kind, rx_monotonic_s)
+        self.put_many([(key, payload)], kind, rx_monotonic_s, source)
 
-    def put_many(self, items: Iterable[tuple[str, bytes]], kind: SampleKind = "put", rx_monotonic_s: float | None = None) -> None:
+    def put_many(self, items: Iterable[tuple[str, bytes]], kind: SampleKind = "put", rx_monotonic_s: float | None = None,
+                 source: str = "") -> None:
         """Store several (key, payload) samples at once (one lock, one wake-up): used for radio bundles."""
         t = time.monotonic() if rx_monotonic_s is None else rx_monotonic_s
-        waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Event]] = []
+        waiters: list[tuple[asyncio.AbstractEventLoop, asyncio.Future[None]]] = []
         with self._cond:
             pending = self._pending
             for key, payload in items:
@@ -68,13 +72,13 @@ class LatestValueBuffer:
                 elif len(pending) >= self.max_keys:
                     self.rejected += 1
                     continue
-                pending[key] = Received(key, payload, kind, t)
+                pending[key] = Received(key, payload, kind, t, source)
             self._cond.notify_all()
             if self._async_waiters:
                 waiters, self._async_waiters = self._async_waiters, []
-        for loop, event in waiters:
+        for loop, waiter in waiters:
             try:
-                loop.call_soon_threadsafe(event.set)
+                loop.call_soon_threadsafe(_wake, waiter)
             except RuntimeError:  # the loop was closed meanwhile: nobody is waiting any more
                 pass
 
@@ -94,19 +98,26 @@ class LatestValueBuffer:
             return bool(self._pending)
 
     async def wait_async(self, timeout_s: float | None = None) -> bool:
-        """The asyncio twin of ``wait``: awaits without blocking the event loop; True if something is pending."""
-        event = asyncio.Event()
+        """The asyncio twin of ``wait``: awaits without blocking the event loop; True if something is pending.
+
+        One future and one timer per wait (an agent waits once per control tick): ``asyncio.wait_for`` on an
+        ``asyncio.Event`` would add a task and its steps every time.
+        """
         loop = asyncio.get_running_loop()
+        waiter: asyncio.Future[None] = loop.create_future()
         with self._cond:
             if self._pending:
                 return True
-            self._async_waiters.append((loop, event))
+            self._async_waiters.append((loop, waiter))
+        timer = None if timeout_s is None else loop.call_later(timeout_s, _wake, waiter)
         try:
-            await asyncio.wait_for(event.wait(), timeout_s)
-        except asyncio.TimeoutError:
+            await waiter
+        finally:
+            if timer is not None:
+                timer.cancel()
             with self._cond:
-                if (loop, event) in self._async_waiters:
-                    self._async_waiters.remove((loop, event))
+                if (loop, waiter) in self._async_waiters:
+                    self._async_waiters.remove((loop, waiter))
         with self._cond:
             return bool(self._pending)
 
@@ -115,8 +126,14 @@ class LatestValueBuffer:
         with self._cond:
             self._cond.notify_all()
             waiters, self._async_waiters = self._async_waiters, []
-        for loop, event in waiters:
+        for loop, waiter in waiters:
             try:
-                loop.call_soon_threadsafe(event.set)
+                loop.call_soon_threadsafe(_wake, waiter)
             except RuntimeError:
                 pass
+
+
+def _wake(waiter: asyncio.Future[None]) -> None:
+    """Resolve a waiter once (a put and its timeout may both get there)."""
+    if not waiter.done():
+        waiter.set_result(None)

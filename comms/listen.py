@@ -2,7 +2,8 @@
 
 Joins as a Zenoh client (default ``tcp/127.0.0.1:7447``, the mission hub) and prints the drones' states, the flood
 polygon (its properties and vertex count) and liveliness changes. What it does any Zenoh client can do: the public
-keys are plain MessagePack maps and GeoJSON. Example::
+keys are plain MessagePack maps and GeoJSON (a drone's state is followed by its 31-byte signature block, a second
+MessagePack object, which a listener without the mission key skips unchecked). Example::
 
     python -m comms.listen --mission circle --duration-s 10
 """
@@ -17,9 +18,11 @@ import threading
 import time
 from collections.abc import Sequence
 
+from comms.cli_args import add_tls_arguments, tls_from_args
 from comms.keys import KeyNameError, MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import FloodPolygon, NeighbourState, decode
+from comms.signing import unsigned_body
 from comms.zenoh_session import DEFAULT_ENDPOINT, ZenohConfig, ZenohOpenError, ZenohSession
 
 
@@ -35,7 +38,7 @@ def describe(keys: MissionKeys, key: str, payload: bytes, kind: str) -> dict | N
         return {"key": key, "t_s": props.t_s, "area_m2": round(props.area_m2, 1), "perimeter_m": round(props.perimeter_m, 1),
                 "vertices": len(poly.geometry.coordinates[0]) - 1}
     if keys.vehicle_id_of(key) is not None and key.endswith("/state"):
-        s = decode(NeighbourState, payload)
+        s = decode(NeighbourState, unsigned_body(payload))
         if s is None:
             return {"key": key, "error": "undecodable state"}
         return {"key": key, "id": s.sender_id, "role": s.role, "seq": s.seq, "t_s": round(s.t_s, 3),
@@ -48,11 +51,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--mission", default="circle")
     parser.add_argument("--connect", action="append", default=None, metavar="ENDPOINT", help=f"default {DEFAULT_ENDPOINT}")
     parser.add_argument("--duration-s", type=float, default=None)
+    add_tls_arguments(parser)
     parser.add_argument("--every-s", type=float, default=1.0, help="print each key at most this often (states are 20 Hz)")
     args = parser.parse_args(argv)
     try:
         keys = MissionKeys(args.mission)
-        config = ZenohConfig.client(*(args.connect or (DEFAULT_ENDPOINT,)))
+        tls = tls_from_args(args)
+        config = ZenohConfig(mode="client", connect=tuple(args.connect or (DEFAULT_ENDPOINT,)),
+                             extra_json5=() if tls is None else tls.json5_items())
     except (ValueError, KeyNameError) as error:
         print(f"comms.listen: {error}", file=sys.stderr)
         return 2

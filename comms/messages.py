@@ -8,7 +8,8 @@ Wire formats:
 * the flood polygon is a GeoJSON Feature (:mod:`comms.flood_polygon`) encoded as UTF-8 JSON, so the rescue centre
   can use it without our code; its version is ``properties.schema``.
 
-The paced clock's messages live in :mod:`comms.pace_messages`, the polygon in :mod:`comms.flood_polygon`, the checks
+The paced clock's messages live in :mod:`comms.pace_messages`, the polygon in :mod:`comms.flood_polygon`, the
+links' own reports (radio bundles and statistics, peers, dropped forgeries) in :mod:`comms.link_messages`, the checks
 every schema shares in :mod:`comms.message_checks`; this module holds the rest and the one codec for them all, and
 names every message type (``from comms.messages import PaceReport`` works for all of them).
 
@@ -31,6 +32,8 @@ import numpy as np
 
 from comms.flood_polygon import FloodPolygon, FloodPolygonProperties, GeoJsonPolygon  # noqa: F401 (named here too)
 from comms.flood_polygon import flood_polygon_from_enu  # noqa: F401 (named here too)
+from comms.gcs_status import FloodEdgeTruth, MissionEvent, OperatorRequest, VehicleStatusReport
+from comms.link_messages import PeerEvent, RadioBundle, RadioLinkStats, SecurityEvent
 from comms.message_checks import InvalidMessage, Point2, Point3, finite, finite_points
 from comms.pace_messages import CameraStats, PaceAck, PaceReport, ParticipantPace, SimClockTick  # noqa: F401
 from mission_plan.roles import Role
@@ -38,6 +41,7 @@ from mission_plan.roles import Role
 Group = Literal["A", "B", ""]
 
 MAX_EDGE_POINTS = 256
+MAX_RELAYED = 64
 
 # Status flags carried in NeighbourState.flags (a bit field keeps the message small and extensible).
 FLAG_ARMED = 1 << 0
@@ -62,6 +66,9 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     B on its right), ``encircle_complete`` (the two groups' leading drones met), and ``edge_points_en_m``: points
     of the water edge its camera sees, absolute mission ENU [m], for the ground station's caged polygon.
     ``extras`` carries control-mode specific numbers (e.g. an improved mode's spacing consensus) by name.
+    ``relayed``: other drones' states this one heard, passed on for drones out of their range (multi-hop
+    knowledge); each copy keeps its origin's ``sender_id``, ``seq`` and ``t_s`` and counts its ``hops`` from the
+    origin (0: the origin's own message). Copies carry no ``relayed`` list of their own.
     """
 
     sender_id: int
@@ -81,24 +88,69 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     encircle_complete: bool = False
     edge_points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=MAX_EDGE_POINTS)] = []
     extras: dict[str, float] = {}
+    hops: int = 0
+    relayed: Annotated[list[NeighbourState], msgspec.Meta(max_length=MAX_RELAYED)] = []
 
     def __post_init__(self) -> None:
-        if self.sender_id < 0 or self.seq < 0:
-            raise InvalidMessage("sender_id and seq must be >= 0")
-        # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
-        p, v = self.position_en_m, self.velocity_en_mps
-        if not math.isfinite(self.t_s + p[0] + p[1] + self.altitude_m + v[0] + v[1] + self.velocity_up_mps + self.yaw_ned_rad):
-            raise InvalidMessage("non-finite state")
+        _check_state(self)
+        if self.hops < 0:
+            raise InvalidMessage("hops must be >= 0")
+        if self.relayed and any(copy.relayed or copy.hops < 1 for copy in self.relayed):
+            raise InvalidMessage("a relayed copy carries hops >= 1 and no relayed list")
         for optional in (self.lat_deg, self.lon_deg, self.battery_fraction):
             if optional is not None and not math.isfinite(optional):
                 raise InvalidMessage("non-finite optional field (send None instead)")
-        if self.extras and not math.isfinite(sum(self.extras.values())):
-            raise InvalidMessage("non-finite extra")
         if self.edge_points_en_m and not finite_points(self.edge_points_en_m):
             raise InvalidMessage("non-finite edge point")
 
     def has(self, flag: int) -> bool:
         return bool(self.flags & flag)
+
+
+class NeighbourStateForControl(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
+    """The part of a :class:`NeighbourState` a drone's control laws and neighbour table read, decoded from the same
+    bytes: what an agent needs of every neighbour it hears, ~10 per control tick.
+
+    The edge points (the ground station's polygon), GPS fix and battery are skipped, not parsed: they are most of a
+    boundary drone's message and most of the time decoding it. The fields kept get the same checks as in
+    :class:`NeighbourState`, so a message either type rejects for them is rejected by both.
+    """
+
+    sender_id: int
+    role: Role
+    seq: int
+    t_s: float
+    position_en_m: Point2
+    altitude_m: float
+    velocity_en_mps: Point2 = (0.0, 0.0)
+    velocity_up_mps: float = 0.0
+    yaw_ned_rad: float = 0.0
+    flags: int = 0
+    group: Group = ""
+    encircle_complete: bool = False
+    extras: dict[str, float] = {}
+
+    def __post_init__(self) -> None:
+        _check_state(self)
+
+    def has(self, flag: int) -> bool:
+        return bool(self.flags & flag)
+
+
+def _check_state(msg: NeighbourState | NeighbourStateForControl) -> None:
+    """The checks both decodings of a state message make on the fields they share; raises InvalidMessage."""
+    if msg.sender_id < 0 or msg.seq < 0:
+        raise InvalidMessage("sender_id and seq must be >= 0")
+    # one sum instead of eight checks: NaN and inf propagate (and a sum overflowing to inf is absurd anyway)
+    p, v = msg.position_en_m, msg.velocity_en_mps
+    if not math.isfinite(msg.t_s + p[0] + p[1] + msg.altitude_m + v[0] + v[1] + msg.velocity_up_mps + msg.yaw_ned_rad):
+        raise InvalidMessage("non-finite state")
+    if msg.extras and not math.isfinite(sum(msg.extras.values())):
+        raise InvalidMessage("non-finite extra")
+
+
+HeardState = Union[NeighbourState, NeighbourStateForControl]
+"""A neighbour's state as a receiver decoded it: whole (ground station, lockstep radio) or the control part (agent)."""
 
 
 class CameraFrame(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/camera/1"):
@@ -190,50 +242,17 @@ class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     params: dict[str, float] = {}
 
 
-class RadioLinkStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radiostats/1"):
-    """Per-link counters of the radio emulator, published periodically for the ground station and tests.
-
-    ``links`` rows: (sender_id, receiver_id, delivered, lost). ``out_of_range`` counts (message, vehicle) pairs
-    that did not hear a message only because of range; ``rejected`` counts malformed/spoofed agent messages.
-    """
-
-    t_s: float
-    messages_in: int
-    delivered: int
-    lost: int
-    out_of_range: int
-    rejected: int
-    links: list[tuple[int, int, int, int]] = []
-
-
-class RadioBundle(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radio/1"):
-    """What the radio emulator hands one receiver in one delivery tick: (sender_id, NeighbourState payload) pairs.
-
-    Bundling keeps the emulator at one Zenoh put per receiver per tick instead of one per (sender, receiver)
-    link; the payloads are the senders' own bytes, forwarded untouched.
-    """
-
-    t_s: float
-    entries: list[tuple[int, bytes]]
-
-
-class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
-    """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
-
-    t_s: float
-    vehicle_id: int
-    event: Literal["alive", "dead", "stale", "rejoined"]
-    observer: str = ""
-
-
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
-                SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon]
-M = TypeVar("M", NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
-            SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon)
+                SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport,
+                MissionEvent, OperatorRequest, FloodEdgeTruth]
+M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand,
+            RadioLinkStats, RadioBundle, PeerEvent, SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats,
+            FloodPolygon, VehicleStatusReport, MissionEvent, OperatorRequest, FloodEdgeTruth)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
 MAX_PAYLOAD_BYTES: dict[type, int] = {
     NeighbourState: 16 * 1024,
+    NeighbourStateForControl: 16 * 1024,
     CameraFrame: 4 * 1024 * 1024,
     BoundaryEdgePoints: 256 * 1024,
     GroundTruth: 4 * 1024 * 1024,
@@ -241,11 +260,16 @@ MAX_PAYLOAD_BYTES: dict[type, int] = {
     RadioLinkStats: 16 * 1024 * 1024,
     RadioBundle: 16 * 1024 * 1024,
     PeerEvent: 4 * 1024,
+    SecurityEvent: 4 * 1024,
     SimClockTick: 1024,
     PaceAck: 1024,
     PaceReport: 1024 * 1024,
     CameraStats: 1024,
     FloodPolygon: 16 * 1024 * 1024,
+    VehicleStatusReport: 4 * 1024 * 1024,
+    MissionEvent: 16 * 1024,
+    OperatorRequest: 1024,
+    FloodEdgeTruth: 4 * 1024 * 1024,
 }
 
 KINDS: dict[str, type] = {cls.__name__: cls for cls in MAX_PAYLOAD_BYTES}

@@ -13,11 +13,13 @@ import sys
 import threading
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
+from comms.key_file import read_key_file
 from comms.radio_emulator import RadioEmulator, RadioEmulatorConfig
-from comms.radio_model import RadioModel
+from comms.radio_model import BurstLoss, RadioModel
 from comms.zenoh_session import ZenohOpenError
 
 
@@ -28,6 +30,14 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--loss", type=float, default=0.0, help="packet loss probability per link and message")
     parser.add_argument("--latency-s", type=float, default=0.0, help="minimum one-way delay [s, sim time]")
     parser.add_argument("--jitter-s", type=float, default=0.0, help="extra uniform delay width [s, sim time]")
+    parser.add_argument("--burst-loss", type=float, default=1.0, help="loss probability in a burst (bad state)")
+    parser.add_argument("--burst-mean-s", type=float, default=0.0, help="mean burst length [mission s]; 0: no bursts")
+    parser.add_argument("--burst-gap-s", type=float, default=0.0, help="mean time between bursts [mission s]")
+    parser.add_argument("--edge-loss", type=float, default=0.0, help="extra loss at the range limit from distance")
+    parser.add_argument("--edge-loss-exponent", type=float, default=2.0, help="growth of the distance loss with d / range")
+    parser.add_argument("--bandwidth-bytes-per-s", type=float, default=0.0, help="each drone's budget; 0: unlimited")
+    parser.add_argument("--ground-node", type=float, nargs=3, metavar=("E", "N", "U"), default=None,
+                        help="the ground station's antenna [m; mission ENU] as a receiver (inbox radio/0/inbox)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--speed", type=float, default=1.0, help="simulation seconds per wall second")
     parser.add_argument("--clock", choices=("free", "paced"), default="free",
@@ -35,6 +45,8 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                              "everything due by then is delivered; free: delays on the wall clock / --speed")
     parser.add_argument("--stats-period-s", type=float, default=1.0, help="how often per-link counters are published")
     parser.add_argument("--tick-s", type=float, default=0.005, help="delivery cycle: batches messages (adds up to this much latency)")
+    parser.add_argument("--key-file", type=Path, default=None, metavar="FILE",
+                        help="the mission key: relay only states with a valid tag (default: relay unchecked)")
     parser.add_argument("--duration-s", type=float, default=None, help="stop after this many wall seconds")
     add_zenoh_arguments(parser)
     return parser.parse_args(argv)
@@ -49,11 +61,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         config = RadioEmulatorConfig(
             mission=args.mission,
             zenoh=zenoh_config_from_args(args),
-            radio=RadioModel(args.range_m, args.loss, args.latency_s, args.jitter_s, args.seed),
+            radio=RadioModel(
+                args.range_m, args.loss, args.latency_s, args.jitter_s, args.seed,
+                burst=BurstLoss(args.burst_mean_s, args.burst_gap_s) if args.burst_mean_s > 0 else None,
+                burst_loss_probability=args.burst_loss, edge_loss_probability=args.edge_loss,
+                edge_loss_exponent=args.edge_loss_exponent, bandwidth_bytes_per_s=args.bandwidth_bytes_per_s,
+            ),
             speed=args.speed,
             stats_period_s=args.stats_period_s,
             tick_s=args.tick_s,
             paced=args.clock == "paced",
+            ground_node_enu_m=None if args.ground_node is None else tuple(args.ground_node),
+            key=None if args.key_file is None else read_key_file(args.key_file),
         )
     except (ValueError, KeyNameError) as error:
         print(f"comms.radio: {error}", file=sys.stderr)
@@ -77,7 +96,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         emulator.stop()
     c = emulator.relay.counters
     print(f"comms.radio: {time.monotonic() - started:.1f} s, in {c.messages_in}, delivered {c.delivered}, lost {c.lost}, "
-          f"out of range {c.out_of_range}, rejected {c.rejected}, no truth {c.no_truth}, superseded {emulator.input_superseded}", file=sys.stderr)
+          f"out of range {c.out_of_range}, over budget {c.over_budget}, rejected {c.rejected}, no truth {c.no_truth}, superseded {emulator.input_superseded}", file=sys.stderr)
     return 0
 
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from comms.byte_budget import SenderBudgets
 from comms.keys import MissionKeys
 from comms.messages import (
     DecodeStats,
@@ -39,7 +40,9 @@ from comms.messages import (
     decode,
     encode,
 )
-from comms.radio_model import RadioModel
+from comms.radio_model import GROUND_NODE_ID, RadioModel
+from comms.signing import MissionKey, Verifier, unsigned_body
+from comms.swarm_link import wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohSession
 
 
@@ -59,6 +62,7 @@ class RelayCounters:
     ignored_old: int = 0  # seq not newer than the last one forwarded for that sender (unless the agent restarted)
     no_truth: int = 0  # no truth yet, or the sender is not in the truth (unknown or dead vehicle)
     queue_overflow: int = 0
+    over_budget: int = 0  # dropped at the sender's radio: over its bytes per mission second
 
 
 class RadioRelay:
@@ -70,7 +74,8 @@ class RadioRelay:
     simulation seconds and are divided by ``speed`` (simulation seconds per relay second).
     """
 
-    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000) -> None:
+    def __init__(self, radio: RadioModel, speed: float = 1.0, stats: DecodeStats | None = None, max_in_flight: int = 1_000_000,
+                 ground_node_enu_m: tuple[float, float, float] | None = None, verifier: Verifier | None = None) -> None:
         if speed <= 0:
             raise ValueError("speed must be > 0")
         self.radio = radio
@@ -78,7 +83,10 @@ class RadioRelay:
         self.stats = DecodeStats() if stats is None else stats
         self.counters = RelayCounters()
         self.max_in_flight = max_in_flight
-        self._batch: list[tuple[int, int, bytes, float]] = []  # (truth slot, seq, payload, rx time)
+        self._batch: list[tuple[int, int, bytes, float, float]] = []  # (truth slot, seq, payload, rx time, source t)
+        self.budgets = SenderBudgets(radio.bandwidth_bytes_per_s)
+        self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
+        self.verifier = verifier
         self._batch_ids: list[int] = []
         self._in_flight: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []  # due, receiver id, sender id, payload
         self._in_flight_count = 0
@@ -104,16 +112,32 @@ class RadioRelay:
         self.flush()
         self.truth_t_s = truth.t_s
         self._positions = truth.positions_array()
+        vehicle_ids = list(truth.vehicle_ids)
+        if self.ground_node_enu_m is not None:
+            self._positions = np.vstack([self._positions, np.asarray(self.ground_node_enu_m, dtype=float)[None, :]])
+            vehicle_ids.append(GROUND_NODE_ID)
         self._alive_count = int(np.count_nonzero(np.isfinite(self._positions).all(axis=1)))
-        self._ids = np.asarray(truth.vehicle_ids, dtype=np.int64)
+        self._ids = np.asarray(vehicle_ids, dtype=np.int64)
         self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids)}
-        self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in truth.vehicle_ids], dtype=np.int64)
+        self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in vehicle_ids], dtype=np.int64)
 
-    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float) -> NeighbourState | None:
-        """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``."""
+    def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float, now_us: int = 0) -> NeighbourState | None:
+        """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``.
+
+        With a ``verifier`` a state must carry the tag of the vehicle whose key it came on, checked against the wall
+        clock ``now_us`` [µs since the epoch] (a forged state with a huge ``seq`` cannot silence a genuine sender);
+        the signed payload is forwarded whole, so every receiver checks it again."""
         self.counters.messages_in += 1
-        state = decode(NeighbourState, payload, self.stats)
-        if state is None or state.sender_id != key_vehicle_id:
+        if self.verifier is None:
+            body = unsigned_body(payload)
+        else:
+            body = self.verifier.check(payload, -1 if key_vehicle_id is None else key_vehicle_id, now_us).body
+            if body is None:
+                self.counters.rejected += 1
+                return None
+        state = decode(NeighbourState, body, self.stats)
+        ground_id_taken = self.ground_node_enu_m is not None and state is not None and state.sender_id == GROUND_NODE_ID
+        if state is None or state.sender_id != key_vehicle_id or ground_id_taken:
             self.counters.rejected += 1
             return None
         sid = state.sender_id
@@ -126,7 +150,10 @@ class RadioRelay:
         if self._positions is None or slot is None or not np.isfinite(self._positions[slot]).all():
             self.counters.no_truth += 1
             return None
-        self._batch.append((slot, state.seq, payload, now_s))
+        if not self.budgets.admit(sid, len(payload), state.t_s):
+            self.counters.over_budget += 1
+            return None
+        self._batch.append((slot, state.seq, payload, now_s, state.t_s))
         return state
 
     def flush(self) -> None:
@@ -138,9 +165,10 @@ class RadioRelay:
         slots = np.fromiter((b[0] for b in batch), dtype=np.int64, count=len(batch))
         seqs = np.fromiter((b[1] for b in batch), dtype=np.int64, count=len(batch))
         rx_s = np.fromiter((b[3] for b in batch), dtype=float, count=len(batch))
+        source_t_s = np.fromiter((b[4] for b in batch), dtype=float, count=len(batch))
         payloads = np.empty(len(batch), dtype=object)
         payloads[:] = [b[2] for b in batch]
-        tx = self.radio.send_many(slots, self._positions, 0.0, seqs, vehicle_ids=self._ids)
+        tx = self.radio.send_many(slots, self._positions, 0.0, seqs, vehicle_ids=self._ids, clock_t_s=source_t_s)
         assert tx.message_index is not None
         c = self.counters
         c.out_of_range += len(batch) * (self._alive_count - 1) - tx.receiver_index.size
@@ -254,6 +282,10 @@ class RadioEmulatorConfig:
     tick_s: float = 0.005  # at most one delivery cycle per tick: batches messages, bounds puts per second
     paced: bool = False
     """Mission time from the truth stream, and each truth acknowledged (a paced simulation clock)."""
+    ground_node_enu_m: tuple[float, float, float] | None = None
+    """The ground station's antenna [m; mission ENU] when it is a radio node (its inbox is ``radio/0/inbox``)."""
+    key: MissionKey | None = None
+    """The mission key: states without a valid tag are not relayed (None: relayed unchecked)."""
 
 
 class RadioEmulator:
@@ -267,7 +299,9 @@ class RadioEmulator:
         self.keys = MissionKeys(config.mission)
         self._own_session = session is None
         self.session = ZenohSession(config.zenoh) if session is None else session
-        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed)
+        self.relay = RadioRelay(config.radio, speed=1.0 if config.paced else config.speed,
+                                ground_node_enu_m=config.ground_node_enu_m,
+                                verifier=None if config.key is None else Verifier(config.key))
         self.bundles_out = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -334,7 +368,7 @@ class RadioEmulator:
                             relay.on_truth(truth)
                 for item in items:
                     if item.key != keys.truth and item.kind == "put":
-                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s)
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, item.rx_monotonic_s, wall_clock_us())
                 t_s = relay.truth_t_s or 0.0
                 for receiver, entries in relay.pop_due(time.monotonic()).items():
                     session.put(keys.inbox(receiver), encode(RadioBundle(t_s=t_s, entries=entries)))
@@ -357,7 +391,7 @@ class RadioEmulator:
                 sent_at_s = relay.truth_t_s or 0.0
                 for item in items:
                     if item.key != keys.truth and item.kind == "put":
-                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s)
+                        relay.on_state(keys.vehicle_id_of(item.key), item.payload, sent_at_s, wall_clock_us())
                 truth = None
                 for item in items:
                     if item.key == keys.truth:

@@ -5,9 +5,16 @@ The paper's control laws (eqs 8-10) sum only over neighbours a drone can hear, s
 exist at all. This module decides that from the simulator's TRUE positions (never from what a drone claims in its
 message), so a drone with a drifting odometry still has the neighbours physics gives it.
 
-Everything here is pure and deterministic: the random draws (loss and jitter) are a counter-based hash of
-``(seed, sender id, receiver id, message seq, stream)``, not a stateful generator. Two consequences the engines
-rely on:
+Loss has three independent causes, combined per (message, receiver) link as ``1 - Π(1 - p)``: the Bernoulli
+``loss_probability`` (the good state's loss when bursts are on), Gilbert–Elliott bursts per directed link
+(:mod:`comms.burst_loss`: ``burst_loss_probability`` while the link is in its bad state, on the sender's mission
+clock) and distance, ``edge_loss_probability * (d / range_m) ** edge_loss_exponent``, rising toward the range
+limit as the signal fades. A bandwidth limit per sender (``bandwidth_bytes_per_s``) is applied by each engine
+before the model, through :mod:`comms.byte_budget`.
+
+Everything here is pure and deterministic: the random draws (loss, jitter, burst states) are a counter-based hash
+of ``(seed, sender id, receiver id, message seq or time cell, stream)`` (:mod:`comms.counter_draws`), not a
+stateful generator. Two consequences the engines rely on:
 
 * the lockstep engine and the Zenoh radio emulator give the same fate to the same message for the same seed,
   whatever order they process messages in;
@@ -24,44 +31,24 @@ a slant range. A NaN position (vehicle without truth, e.g. dead) is out of range
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from comms.burst_loss import BurstLoss
+from comms.counter_draws import uniform_draw
+
+if TYPE_CHECKING:
+    from mission_plan.scenario_schema import RadioSpec
+
+__all__ = ["BurstLoss", "RadioModel", "Transmission", "radio_model_of", "uniform_draw"]
+
+GROUND_NODE_ID = 0
+"""The ground station's id as a receiver on the radio (vehicle ids start at 1); it never transmits there."""
+
 _STREAM_LOSS = 1
 _STREAM_JITTER = 2
-_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
-_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
-_MIX2 = np.uint64(0x94D049BB133111EB)
-_TWO_POW_53 = float(2**53)
-
-
-def _mix(x: NDArray[np.uint64]) -> NDArray[np.uint64]:
-    """splitmix64 finaliser on an array (uint64 arithmetic wraps, which is what the hash wants)."""
-    x = x + _GOLDEN
-    x = (x ^ (x >> np.uint64(30))) * _MIX1
-    x = (x ^ (x >> np.uint64(27))) * _MIX2
-    return x ^ (x >> np.uint64(31))
-
-
-def _as_u64(values: ArrayLike) -> NDArray[np.uint64]:
-    return np.asarray(values, dtype=np.int64).astype(np.uint64)
-
-
-def uniform_draw(seed: int, sender_ids: ArrayLike, receiver_ids: ArrayLike, seq: ArrayLike, stream: int) -> NDArray[np.float64]:
-    """Deterministic U[0, 1) draws, one per broadcast element of the inputs (a counter-based RNG).
-
-    The same ``(seed, sender, receiver, seq, stream)`` always gives the same number; neighbouring tuples give
-    independent-looking numbers (splitmix64 chained over the fields).
-    """
-    s, r, q = np.broadcast_arrays(_as_u64(sender_ids), _as_u64(receiver_ids), _as_u64(seq))
-    with np.errstate(over="ignore"):
-        h = _mix(np.full(s.shape, np.uint64(seed & 0xFFFFFFFFFFFFFFFF), dtype=np.uint64))
-        h = _mix(h ^ s)
-        h = _mix(h ^ r)
-        h = _mix(h ^ q)
-        h = _mix(h ^ np.uint64(stream))
-    return (h >> np.uint64(11)).astype(np.float64) / _TWO_POW_53
 
 
 @dataclass(frozen=True)
@@ -94,10 +81,13 @@ class Transmission:
 
 @dataclass(frozen=True)
 class RadioModel:
-    """A broadcast radio: range gate on true positions, seeded Bernoulli loss, fixed latency plus uniform jitter.
+    """A broadcast radio: range gate on true positions, seeded loss (Bernoulli, bursts, distance), latency, jitter.
 
     ``range_m`` [m]: a receiver hears a sender iff their true distance is <= range_m (SPEC §4: 25 m in `circle`).
     ``loss_probability``: independent per (message, receiver) link. ``latency_s``/``jitter_s`` [s]: see module doc.
+    ``burst``: Gilbert–Elliott timing (None: no bursts), with ``burst_loss_probability`` in the bad state.
+    ``edge_loss_probability``/``edge_loss_exponent``: the distance term at the range limit and its growth.
+    ``bandwidth_bytes_per_s``: each sender's budget (0: unlimited), applied by the engines.
     """
 
     range_m: float
@@ -105,16 +95,49 @@ class RadioModel:
     latency_s: float = 0.0
     jitter_s: float = 0.0
     seed: int = 0
+    burst: BurstLoss | None = None
+    burst_loss_probability: float = 1.0
+    edge_loss_probability: float = 0.0
+    edge_loss_exponent: float = 2.0
+    bandwidth_bytes_per_s: float = 0.0
 
     def __post_init__(self) -> None:
         if not (self.range_m >= 0.0):
             raise ValueError(f"radio.range_m: must be >= 0, got {self.range_m}")
-        if not (0.0 <= self.loss_probability <= 1.0):
-            raise ValueError(f"radio.loss: must be in [0, 1], got {self.loss_probability}")
-        if not (self.latency_s >= 0.0):
-            raise ValueError(f"radio.latency_s: must be >= 0, got {self.latency_s}")
-        if not (self.jitter_s >= 0.0):
-            raise ValueError(f"radio.jitter_s: must be >= 0, got {self.jitter_s}")
+        for name, value in (("loss", self.loss_probability), ("burst_loss", self.burst_loss_probability),
+                            ("edge_loss", self.edge_loss_probability)):
+            if not (0.0 <= value <= 1.0):
+                raise ValueError(f"radio.{name}: must be in [0, 1], got {value}")
+        for name, value in (("latency_s", self.latency_s), ("jitter_s", self.jitter_s),
+                            ("bandwidth_bytes_per_s", self.bandwidth_bytes_per_s)):
+            if not (value >= 0.0):
+                raise ValueError(f"radio.{name}: must be >= 0, got {value}")
+        if not (self.edge_loss_exponent > 0.0):
+            raise ValueError(f"radio.edge_loss_exponent: must be > 0, got {self.edge_loss_exponent}")
+
+    @property
+    def mean_loss_probability(self) -> float:
+        """Average loss at zero distance over the burst process's stationary law (the campaigns' "average loss")."""
+        if self.burst is None:
+            return self.loss_probability
+        bad = self.burst.bad_fraction
+        good_loss = self.loss_probability
+        bad_loss = 1.0 - (1.0 - good_loss) * (1.0 - self.burst_loss_probability)
+        return (1.0 - bad) * good_loss + bad * bad_loss
+
+    def loss_probabilities(self, sender_ids: ArrayLike, receiver_ids: ArrayLike, clock_t_s: ArrayLike,
+                           distance_m: ArrayLike | None) -> NDArray[np.float64]:
+        """Each link's loss probability (broadcast): Bernoulli, burst state at ``clock_t_s``, distance."""
+        shape = np.broadcast_shapes(np.shape(sender_ids), np.shape(receiver_ids), np.shape(clock_t_s),
+                                    () if distance_m is None else np.shape(distance_m))
+        keep = np.full(shape, 1.0 - self.loss_probability)
+        if self.burst is not None and self.burst_loss_probability > 0.0:
+            bad = self.burst.bad(self.seed, sender_ids, receiver_ids, clock_t_s)
+            keep = keep * np.where(bad, 1.0 - self.burst_loss_probability, 1.0)
+        if distance_m is not None and self.edge_loss_probability > 0.0 and self.range_m > 0.0:
+            fraction = np.clip(np.asarray(distance_m, dtype=float) / self.range_m, 0.0, 1.0)
+            keep = keep * (1.0 - self.edge_loss_probability * fraction ** self.edge_loss_exponent)
+        return 1.0 - keep
 
     def in_range(self, positions_m: ArrayLike) -> NDArray[np.bool_]:
         """(N, N) matrix: ``[i, j]`` is True when j hears i (symmetric, diagonal False) from TRUE positions (N, 2|3)."""
@@ -138,15 +161,22 @@ class RadioModel:
         return np.flatnonzero(near)
 
     def link_fate(
-        self, sender_ids: ArrayLike, receiver_ids: ArrayLike, seq: ArrayLike, t_s: ArrayLike
+        self, sender_ids: ArrayLike, receiver_ids: ArrayLike, seq: ArrayLike, t_s: ArrayLike,
+        distance_m: ArrayLike | None = None, clock_t_s: ArrayLike | None = None,
     ) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
         """For in-range links (broadcast arrays of vehicle ids and message seq): (delivered, delivery_t_s).
 
         Pure function of the seed and the arguments; ``delivery_t_s`` is NaN where the packet is lost.
+        ``clock_t_s`` is the mission time the burst state is read at (the message's own time stamp; default
+        ``t_s``), ``distance_m`` the true link distance for the distance term.
         """
         shape = np.broadcast_shapes(np.shape(sender_ids), np.shape(receiver_ids), np.shape(seq), np.shape(t_s))
-        if self.loss_probability > 0.0:
-            delivered = uniform_draw(self.seed, sender_ids, receiver_ids, seq, _STREAM_LOSS) >= self.loss_probability
+        lossy = self.loss_probability > 0.0 or (self.burst is not None and self.burst_loss_probability > 0.0) or (
+            distance_m is not None and self.edge_loss_probability > 0.0)
+        if lossy:
+            clock = t_s if clock_t_s is None else clock_t_s
+            p_loss = self.loss_probabilities(sender_ids, receiver_ids, clock, distance_m)
+            delivered = uniform_draw(self.seed, sender_ids, receiver_ids, seq, _STREAM_LOSS) >= p_loss
             delivered = np.broadcast_to(delivered, shape).copy()
         else:
             delivered = np.ones(shape, dtype=bool)
@@ -179,7 +209,8 @@ class RadioModel:
             near &= mask[:, None]
         s_idx, r_idx = np.nonzero(near)
         seq_arr = np.broadcast_to(np.asarray(seq, dtype=np.int64), (n,))
-        delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_arr[s_idx], t_s)
+        distance = self._distances(positions_m, s_idx, r_idx)
+        delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_arr[s_idx], t_s, distance)
         return Transmission(s_idx.astype(np.int64), r_idx.astype(np.int64), delivered, delivery_t_s)
 
     def send(
@@ -189,8 +220,9 @@ class RadioModel:
         r_idx = self.receivers_of(sender_index, positions_m)
         n = np.asarray(positions_m).shape[0]
         ids = np.arange(n, dtype=np.int64) if vehicle_ids is None else np.asarray(vehicle_ids, dtype=np.int64)
-        delivered, delivery_t_s = self.link_fate(ids[sender_index], ids[r_idx], seq, t_s)
         s_idx = np.full(r_idx.shape, sender_index, dtype=np.int64)
+        distance = self._distances(positions_m, s_idx, r_idx)
+        delivered, delivery_t_s = self.link_fate(ids[sender_index], ids[r_idx], seq, t_s, distance)
         return Transmission(s_idx, r_idx.astype(np.int64), delivered, delivery_t_s)
 
     def send_many(
@@ -200,9 +232,11 @@ class RadioModel:
         t_s: ArrayLike,
         seq: ArrayLike,
         vehicle_ids: ArrayLike | None = None,
+        clock_t_s: ArrayLike | None = None,
     ) -> Transmission:
         """K messages from the given position rows (e.g. everything the emulator received in one tick) at once:
-        O(K N) vectorised. ``t_s`` and ``seq`` are scalars or (K,); rows carry ``message_index`` into the K."""
+        O(K N) vectorised. ``t_s``, ``seq`` and ``clock_t_s`` (each message's own mission time, for the burst
+        state; default ``t_s``) are scalars or (K,); rows carry ``message_index`` into the K."""
         p = np.asarray(positions_m, dtype=float)
         senders = np.asarray(sender_index, dtype=np.int64).reshape(-1)
         k = senders.size
@@ -215,5 +249,29 @@ class RadioModel:
         s_idx = senders[m_idx]
         seq_k = np.broadcast_to(np.asarray(seq, dtype=np.int64), (k,))
         t_k = np.broadcast_to(np.asarray(t_s, dtype=float), (k,))
-        delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_k[m_idx], t_k[m_idx])
+        clock_k = t_k if clock_t_s is None else np.broadcast_to(np.asarray(clock_t_s, dtype=float), (k,))
+        distance = None
+        if self.edge_loss_probability > 0.0:
+            distance = np.sqrt(np.einsum("kj,kj->k", d[m_idx, r_idx], d[m_idx, r_idx]))
+        delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_k[m_idx], t_k[m_idx], distance,
+                                                 clock_k[m_idx])
         return Transmission(s_idx, r_idx.astype(np.int64), delivered, delivery_t_s, m_idx.astype(np.int64))
+
+    def _distances(self, positions_m: ArrayLike, s_idx: NDArray[np.int64],
+                   r_idx: NDArray[np.int64]) -> NDArray[np.float64] | None:
+        """True distance of each (sender, receiver) row, computed only when the distance term is on."""
+        if self.edge_loss_probability <= 0.0:
+            return None
+        p = np.asarray(positions_m, dtype=float)
+        d = p[s_idx] - p[r_idx]
+        return np.sqrt(np.einsum("kj,kj->k", d, d))
+
+
+def radio_model_of(spec: RadioSpec, seed: int) -> RadioModel:
+    """The model of a scenario's ``[radio]`` table, seeded with the mission seed (both engines build it here)."""
+    burst = BurstLoss(spec.burst_mean_s, spec.burst_gap_s) if spec.burst_mean_s > 0.0 else None
+    return RadioModel(
+        range_m=spec.range_m, loss_probability=spec.loss, latency_s=spec.latency_s, jitter_s=spec.jitter_s,
+        seed=seed, burst=burst, burst_loss_probability=spec.burst_loss, edge_loss_probability=spec.edge_loss,
+        edge_loss_exponent=spec.edge_loss_exponent, bandwidth_bytes_per_s=spec.bandwidth_bytes_per_s,
+    )

@@ -127,6 +127,12 @@ def _direct(callback: Callable[[zenoh.Sample], None]) -> Any:
     return zenoh.handlers.Callback(callback, indirect=False)
 
 
+def _source_zid(sample: zenoh.Sample) -> str:
+    """The publishing session's Zenoh id if the sample carries its source, else ""."""
+    info = sample.source_info
+    return "" if info is None else str(info.source_id.zid)
+
+
 _open_sessions: "weakref.WeakSet[ZenohSession]" = weakref.WeakSet()
 
 
@@ -204,12 +210,15 @@ class ZenohSession:
         buffer: LatestValueBuffer | None = None,
         unpack: Unpack | None = None,
         max_payload_bytes: int = MAX_SAMPLE_BYTES,
+        with_source: bool = False,
     ) -> LatestValueBuffer:
         """One (wildcard) subscriber whose samples land in ``buffer`` (newest per key); returns the buffer.
 
         ``unpack(key, payload) -> [(subkey, payload), ...]`` splits a bundle into several entries inside the
         callback (it must be cheap and pure); if it raises, the sample is dropped and counted. Samples above
-        ``max_payload_bytes`` are dropped before being copied (counted in ``oversized_samples``).
+        ``max_payload_bytes`` are dropped before being copied (counted in ``oversized_samples``). ``with_source``
+        keeps the publishing session's Zenoh id in ``Received.source`` when the sample carries one (a publisher
+        that sets ``source_info``; a plain ``put`` carries none).
         """
         buf = LatestValueBuffer() if buffer is None else buffer
 
@@ -221,15 +230,27 @@ class ZenohSession:
                 key = str(sample.key_expr)
                 payload = sample.payload.to_bytes()
                 kind = "delete" if sample.kind == zenoh.SampleKind.DELETE else "put"
+                source = _source_zid(sample) if with_source else ""
                 if unpack is None:
-                    buf.put(key, payload, kind)
+                    buf.put(key, payload, kind, source=source)
                 else:
-                    buf.put_many(unpack(key, payload), kind)
+                    buf.put_many(unpack(key, payload), kind, source=source)
             except Exception:
                 self.callback_errors += 1
 
         self._declare(lambda: self._session.declare_subscriber(key_expr, _direct(on_sample)))
         return buf
+
+    def address_of(self, zid: str) -> str:
+        """The remote address of this session's link to the session ``zid`` ("" when not directly linked); a Zenoh
+        call: never from a callback."""
+        try:
+            for link in self._session.info.links():
+                if str(link.zid) == zid:
+                    return str(link.dst)
+        except Exception:
+            return ""
+        return ""
 
     # ---- liveliness
     def declare_alive(self, key: str) -> None:

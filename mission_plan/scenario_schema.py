@@ -48,12 +48,26 @@ class CameraSpec:
 
 @dataclass(frozen=True)
 class RadioSpec:
-    """Swarm radio: range [m], loss probability, latency and jitter [s]."""
+    """Swarm radio: range [m], loss probability, latency and jitter [s], and how it fails like a real one.
+
+    ``loss`` is the Bernoulli loss (the good state's when bursts are on). Gilbert–Elliott bursts per directed link
+    are on when ``burst_mean_s`` > 0: ``burst_loss`` is the loss in the bad state, ``burst_mean_s`` the mean burst
+    and ``burst_gap_s`` the mean time between bursts [mission s]. ``edge_loss`` is the extra loss at the range limit
+    from distance, growing as ``(d / range_m) ** edge_loss_exponent``. ``bandwidth_bytes_per_s`` limits what each
+    drone sends (0: unlimited). ``gcs_lossless`` keeps the ground station outside the radio (it hears every drone).
+    """
 
     range_m: float = 25.0
     loss: float = 0.0
     latency_s: float = 0.0
     jitter_s: float = 0.0
+    burst_loss: float = 1.0
+    burst_mean_s: float = 0.0
+    burst_gap_s: float = 0.0
+    edge_loss: float = 0.0
+    edge_loss_exponent: float = 2.0
+    bandwidth_bytes_per_s: float = 0.0
+    gcs_lossless: bool = True
 
 
 @dataclass(frozen=True)
@@ -134,11 +148,26 @@ def camera_spec(table: Mapping[str, Any]) -> CameraSpec:
 
 
 def _radio(table: Mapping[str, Any]) -> RadioSpec:
+    burst_mean_s = number(table, "burst_mean_s", RadioSpec.burst_mean_s, "radio", non_negative=True)
+    burst_gap_s = number(table, "burst_gap_s", RadioSpec.burst_gap_s, "radio", non_negative=True)
+    if burst_mean_s > 0.0 and burst_gap_s <= 0.0:
+        raise ScenarioError(f"radio.burst_gap_s: must be > 0 when radio.burst_mean_s is set, got {burst_gap_s:g}")
+    gcs_lossless = table.get("gcs_lossless", RadioSpec.gcs_lossless)
+    if not isinstance(gcs_lossless, bool):
+        raise ScenarioError(f"radio.gcs_lossless: must be true or false, got {gcs_lossless!r}")
     return RadioSpec(
         range_m=number(table, "range_m", RadioSpec.range_m, "radio", non_negative=True),
         loss=number(table, "loss", RadioSpec.loss, "radio", non_negative=True, maximum=1.0),
         latency_s=number(table, "latency_s", RadioSpec.latency_s, "radio", non_negative=True),
         jitter_s=number(table, "jitter_s", RadioSpec.jitter_s, "radio", non_negative=True),
+        burst_loss=number(table, "burst_loss", RadioSpec.burst_loss, "radio", non_negative=True, maximum=1.0),
+        burst_mean_s=burst_mean_s,
+        burst_gap_s=burst_gap_s,
+        edge_loss=number(table, "edge_loss", RadioSpec.edge_loss, "radio", non_negative=True, maximum=1.0),
+        edge_loss_exponent=number(table, "edge_loss_exponent", RadioSpec.edge_loss_exponent, "radio", positive=True),
+        bandwidth_bytes_per_s=number(table, "bandwidth_bytes_per_s", RadioSpec.bandwidth_bytes_per_s, "radio",
+                                     non_negative=True),
+        gcs_lossless=gcs_lossless,
     )
 
 
@@ -168,7 +197,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
     seed = integer(raw, "seed", 1, "")
     flood = sub_table(raw, "flood")
     if "model" not in flood:
-        raise ScenarioError("flood.model: missing (circle, ellipse, nonconvex, drift or terrain)")
+        raise ScenarioError("flood.model: missing (circle, ellipse, nonconvex, drift, terrain or hydro)")
     fleet = sub_table(raw, "fleet")
     if fleet.get("launch_en_m") == AUTO_LAUNCH and resolve_launch is not None:
         fleet = resolve_launch(fleet, flood, seed, source_dir)

@@ -20,6 +20,7 @@ from pymavlink.dialects.v20 import common as mavlink
 
 from comms.frames import GeodeticHome, enu_to_geodetic, local_ned_to_mission_enu
 from comms.px4 import LandedState, Px4Mode, base_mode, custom_mode
+from mock_autopilot.rangefinder import distance_sensor_message
 from mock_autopilot.setpoints import OffboardSetpoint
 
 MAV_TYPE_QUADROTOR = mavlink.MAV_TYPE_QUADROTOR
@@ -88,6 +89,8 @@ class VehicleSnapshot(NamedTuple):
     home_ned_m: tuple[float, float, float]
     home: GeodeticHome
     pad_enu_m: tuple[float, float, float]
+    ground_below_enu_m: float
+    """Ground height below the vehicle above the home ground [m] (the rangefinder's ground)."""
     battery_remaining: float
     battery_voltage_v: float
     battery_current_a: float
@@ -234,6 +237,11 @@ def vfr_hud(s: VehicleSnapshot) -> mavlink.MAVLink_message:
     return mavlink.MAVLink_vfr_hud_message(speed, speed, heading, throttle, s.amsl_m, -vel[2])
 
 
+def distance_sensor(s: VehicleSnapshot) -> mavlink.MAVLink_message:
+    """The downward rangefinder: mission up (pad height + local up) minus the ground below (``rangefinder.py``)."""
+    return distance_sensor_message(s.time_boot_ms, s.pad_enu_m[2] - s.position_ned_m[2] - s.ground_below_enu_m)
+
+
 def battery_status(s: VehicleSnapshot) -> mavlink.MAVLink_message:
     voltages = [int(s.battery_voltage_v * 1000)] + [65535] * 9
     return mavlink.MAVLink_battery_status_message(
@@ -280,6 +288,8 @@ BUILDERS: dict[str, Callable[[VehicleSnapshot], mavlink.MAVLink_message | None]]
     "WIND_COV": wind_cov,
     "ALTITUDE": altitude,
     "VFR_HUD": vfr_hud,
+    "DISTANCE_SENSOR": distance_sensor,
+    "DISTANCE_SENSOR": distance_sensor,
     "BATTERY_STATUS": battery_status,
     "POSITION_TARGET_LOCAL_NED": position_target_local_ned,
     "AUTOPILOT_VERSION": autopilot_version,

@@ -97,6 +97,8 @@ class VehicleState:
         self.system_id = config.sysid
         self.params = ParamStore({"MAV_SYS_ID": self.system_id, **dict(config.params)})
         self.boot_time_s = now_s
+        self.ground_below_enu_m = 0.0
+        """Ground height below the vehicle above the home ground [m], set by the simulator (DISTANCE_SENSOR)."""
         self.t_s = now_s
         self.body = KinematicState()
         self.yaw_rad = float(config.initial_yaw_rad)

@@ -22,7 +22,11 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+import cv2
+
+from comms.key_file import KEY_FILE_NAME, KeyFileError, read_key_file
 from comms.keys import KeyNameError, validate_mission
+from comms.signing import MissionKey
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.zenoh_session import ZenohOpenError
 from mission_plan.control_params import MODES, ControlMode
@@ -60,6 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rate-hz", type=float, help="control rate in mission time (default: the plan's)")
     p.add_argument("--connect-timeout", type=float, default=30.0, help="wall seconds to wait for the autopilot")
     p.add_argument("--link-timeout", type=float, default=2.0, help="wall seconds of autopilot silence = vehicle lost")
+    p.add_argument("--key-file", type=Path, metavar="FILE",
+                   help=f"the mission key (default: {KEY_FILE_NAME} beside the --plan file)")
     p.add_argument("--log-level", default="INFO")
     add_zenoh_arguments(p)
     return p
@@ -120,15 +126,29 @@ def config_from_args(args: argparse.Namespace) -> tuple[AgentConfig, str, str]:
     return config, mission, url
 
 
-def _make_link(kind: str, url: str, control_rate_hz: float):  # noqa: ANN202 - returns an AutopilotLink
-    """The MAVLink library's link; MAVSDK asks for the local position at the control rate, no faster."""
+def mission_key(args: argparse.Namespace) -> MissionKey:
+    """The key that signs this drone's states and checks the ground station's commands: ``--key-file``, or the
+    one delivered with the plan."""
+    if args.key_file is not None:
+        return read_key_file(args.key_file)
+    if args.plan is None:
+        raise KeyFileError("--key-file: required without --plan (the mission key comes with the plan)")
+    return read_key_file(args.plan.parent / KEY_FILE_NAME)
+
+
+def _make_link(kind: str, url: str, control_rate_hz: float, has_gps: bool):  # noqa: ANN202 - an AutopilotLink
+    """The MAVLink library's link; MAVSDK asks for the local position at the control rate, no faster, and for the
+    global position (GLOBAL_POSITION_INT) only on a drone with GPS, the only one whose state message carries it."""
     if kind == "pymavlink":
         from vehicle_agents.autopilot_link_pymavlink import PymavlinkAutopilotLink
 
         return PymavlinkAutopilotLink(url)
     from vehicle_agents.autopilot_link_mavsdk import TELEMETRY_RATES_HZ, MavsdkAutopilotLink
 
-    return MavsdkAutopilotLink(url, {**TELEMETRY_RATES_HZ, "position_velocity_ned": control_rate_hz})
+    rates_hz = {**TELEMETRY_RATES_HZ, "position_velocity_ned": control_rate_hz}
+    if not has_gps:
+        rates_hz["position"] = -1.0
+    return MavsdkAutopilotLink(url, rates_hz)
 
 
 async def _run(agent: Agent) -> int:
@@ -140,30 +160,34 @@ async def _run(agent: Agent) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    cv2.setNumThreads(1)  # one small frame at a time: OpenCV's worker pool would only add thread wake-ups
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
         config, mission, url = config_from_args(args)
         zenoh = zenoh_config_from_args(args)
-    except (ScenarioError, PlanFileError, KeyNameError, ValueError) as exc:
+        key = mission_key(args)
+    except (ScenarioError, PlanFileError, KeyNameError, KeyFileError, ValueError) as exc:
         print(f"vehicle_agents: {exc}", file=sys.stderr)
         return EXIT_USAGE
     from vehicle_agents.swarm_link_zenoh import ZenohSwarmLink
 
     try:
-        swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio")
+        swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio",
+                               key=key, relays=config.params.relay_max_hops > 0)
     except ZenohOpenError as exc:
         print(f"vehicle_agents: vehicle {config.vehicle_id}: {exc}", file=sys.stderr)
         return EXIT_START_FAILED
     from vehicle_agents.sim_clock_link import SimClockLink
 
     sim_clock = SimClockLink(swarm.session, swarm.keys, config.vehicle_id)
-    agent = Agent(config, _make_link(args.link, url, config.control_rate_hz), swarm, sim_clock)
+    agent = Agent(config, _make_link(args.link, url, config.control_rate_hz, config.has_gps), swarm, sim_clock)
     code = asyncio.run(_run(agent))
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(
         "vehicle %d exits with %d: %d control steps (%.1f Hz mission time), %d overruns, %d frames processed, "
-        "%d frames missed", config.vehicle_id, code, stats.control_steps, stats.control_rate_hz(),
-        stats.overruns, stats.frames_processed, stats.frames_dropped)
+        "%d frames missed; dropped for their tag: %d commands, %d states", config.vehicle_id, code,
+        stats.control_steps, stats.control_rate_hz(), stats.overruns, stats.frames_processed, stats.frames_dropped,
+        swarm.command_verifier.dropped_total(), 0 if swarm.link.verifier is None else swarm.link.verifier.dropped_total())
     return code
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,6 +26,7 @@ from comms.messages import (
     FLAG_OFFBOARD,
     FLAG_SEES_EDGE,
     MAX_EDGE_POINTS,
+    HeardState,
     NeighbourState,
 )
 from comms.px4 import MAVSDK_OFFBOARD
@@ -49,7 +51,7 @@ def own_state(tel: AutopilotTelemetry, pad_enu_m: Sequence[float], has_gps: bool
     )
 
 
-def neighbour_info(msg: NeighbourState, age_s: float) -> NeighbourInfo:
+def neighbour_info(msg: HeardState, age_s: float) -> NeighbourInfo:
     """One neighbour's message as the control law reads it, ``age_s`` old (what only the wire carries, such as the
     ring radius in ``extras``, comes through here in both engines)."""
     ring_radius_m = msg.extras.get("ring_radius_m")
@@ -77,10 +79,19 @@ def velocity_ned(command: VelocityCommand) -> tuple[float, float, float]:
 def edge_points_for_radio(edge_points_en_m: NDArray[np.float64]) -> list[tuple[float, float]]:
     """Absolute edge points [m; mission E, N] evenly subsampled to :data:`EDGE_POINTS_PER_MESSAGE` for the radio."""
     points = np.asarray(edge_points_en_m, dtype=float).reshape(-1, 2)
-    points = points[np.all(np.isfinite(points), axis=1)]
+    if not math.isfinite(float(points.sum())):
+        points = points[np.all(np.isfinite(points), axis=1)]
     if len(points) > EDGE_POINTS_PER_MESSAGE:
-        points = points[np.linspace(0, len(points) - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)]
+        points = points[_even_subsample(len(points))]
     return list(map(tuple, points[:MAX_EDGE_POINTS].tolist()))
+
+
+@lru_cache(maxsize=512)
+def _even_subsample(count: int) -> NDArray[np.intp]:
+    """Indices of :data:`EDGE_POINTS_PER_MESSAGE` points spread evenly over ``count`` (the same few counts recur)."""
+    indices = np.linspace(0, count - 1, EDGE_POINTS_PER_MESSAGE).round().astype(int)
+    indices.setflags(write=False)
+    return indices
 
 
 def state_message(

@@ -5,13 +5,16 @@ simulation (``via_radio=True``: range, loss and delay decided on true positions)
 public state key on real hardware where the radio itself limits range (``via_radio=False``). Nothing else changes.
 What arrives is handed to the onboard core as an :class:`~vehicle_agents.core.neighbours.Inbox` (states and
 liveliness changes); the core keeps the table. Camera frames and commands come through latest-value buffers.
+With the mission key, states are signed and checked (:mod:`comms.signing`), and only commands the ground station
+signed, newer than the last one accepted, are obeyed; the rest are dropped and counted in ``command_verifier``.
 """
 
 from __future__ import annotations
 
 from comms.keys import MissionKeys
-from comms.messages import CameraFrame, MissionCommand, NeighbourState, decode
-from comms.swarm_link import SwarmLink
+from comms.messages import CameraFrame, MissionCommand, NeighbourState, NeighbourStateForControl, decode
+from comms.signing import GROUND_STATION, MissionKey, Verifier
+from comms.swarm_link import SwarmLink, wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohSession
 from vehicle_agents.core.neighbours import Inbox
 
@@ -19,13 +22,18 @@ from vehicle_agents.core.neighbours import Inbox
 class ZenohSwarmLink:
     """A :class:`~vehicle_agents.swarm_port.SwarmPort` over one Zenoh session."""
 
-    def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool) -> None:
+    def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool, key: MissionKey,
+                 relays: bool = False) -> None:
+        """``relays``: this drone forwards what it hears (multi-hop), so neighbour states are decoded whole, relayed
+        copies and edge points included; otherwise only the fields the control laws read."""
         self.vehicle_id = vehicle_id
         self.keys = MissionKeys(mission)
         self.session = ZenohSession(zenoh)
         self._camera = self.session.subscribe(self.keys.camera(vehicle_id))
         self._command_buf = self.session.subscribe(self.keys.command)
-        self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio)
+        self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio, key=key,
+                              state_type=NeighbourState if relays else NeighbourStateForControl)
+        self.command_verifier = Verifier(key)
         self._frame: CameraFrame | None = None
         self._command: MissionCommand | None = None
 
@@ -41,8 +49,10 @@ class ZenohSwarmLink:
         return Inbox(states=update.states, departed_ids=update.dead, returned_ids=update.alive)
 
     def latest_command(self) -> MissionCommand | None:
+        now_us = wall_clock_us()
         for item in self._command_buf.drain():
-            msg = decode(MissionCommand, item.payload)
+            body = self.command_verifier.check(item.payload, GROUND_STATION, now_us).body
+            msg = None if body is None else decode(MissionCommand, body)
             if msg is not None and (self._command is None or msg.seq >= self._command.seq):
                 self._command = msg
         return self._command

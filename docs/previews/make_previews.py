@@ -1,10 +1,11 @@
-"""Regenerate the preview PNGs in this folder, one per flood model:
-``.venv/bin/python docs/previews/make_previews.py``.
+"""Regenerate the preview PNGs in this folder, one per flood model and hydro scenario:
+``.venv/bin/python docs/previews/make_previews.py [NAME ...]`` (default: all).
 
 Each PNG shows, left to right: the flood from above at t = 0, 30 and 60 s with the drone's camera footprint; the
 128x128 camera frame the drone sees at t = 30 s; and what the onboard perception makes of it, drawn like the paper's
 Fig. 6 (water centroid blue, land centroid red, their midpoint black, the shore points found in yellow, the image
-centre as a cross).
+centre as a cross). For the hydro scenarios (breach, river, pluvial) the map shows the ground and the water depth at
+t = 30 s; the camera sees the water shaded by depth, and perception scales by the height above ground.
 """
 
 from __future__ import annotations
@@ -26,10 +27,13 @@ from gcs.scenario import load_scenario  # noqa: E402
 from mock_autopilot.camera.model import CameraModel  # noqa: E402
 from mock_autopilot.camera.render import ground_points_en_m, render_frame  # noqa: E402
 from mock_autopilot.world.config import flood_model_from_config  # noqa: E402
+from mock_autopilot.camera.render import MIN_ALTITUDE_M  # noqa: E402
+from mock_autopilot.world.ground import height_above_ground_m  # noqa: E402
+from mock_autopilot.world.hydro import HydroFlood  # noqa: E402
 from mock_autopilot.world.terrain import TerrainFlood  # noqa: E402
 from vehicle_agents.perception.segmentation import perceive  # noqa: E402
 
-MODELS = ("circle", "ellipse", "nonconvex", "drift", "terrain")
+MODELS = ("circle", "ellipse", "nonconvex", "drift", "terrain", "breach", "river", "pluvial")
 T_S = 30.0
 ALTITUDE_M = 10.0
 YAW_DEG = 20.0
@@ -48,7 +52,7 @@ def preview(name: str, out: Path) -> None:
     position = (float(edge[0] + outward[0]), float(edge[1] + outward[1]), ALTITUDE_M)
     yaw = math.radians(YAW_DEG)
     frame = render_frame(flood, T_S, position, yaw, camera, scenario.seed)
-    result = perceive(frame.image_bgr, ALTITUDE_M, camera.fov_deg, yaw)
+    result = perceive(frame.image_bgr, max(height_above_ground_m(flood, position), MIN_ALTITUDE_M), camera.fov_deg, yaw)
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 5.2), gridspec_kw={"width_ratios": [1.15, 1, 1]})
     ax = axes[0]
@@ -63,6 +67,16 @@ def preview(name: str, out: Path) -> None:
         grid = np.stack(np.meshgrid(np.linspace(-extent, extent, 500), np.linspace(extent, -extent, 500)), axis=-1)
         ax.contourf(grid[..., 0], grid[..., 1], flood.is_water(grid, T_S), levels=[0.5, 1.5], colors=["#3b6fb6"],
                     alpha=0.55)
+    if isinstance(flood, HydroFlood):
+        grid = flood.grid
+        rows, cols = grid.shape
+        half = cols * grid.cell_m / 2
+        box = (grid.center_en_m[0] - half, grid.center_en_m[0] + half, grid.center_en_m[1] - half,
+               grid.center_en_m[1] + half)
+        ax.imshow(grid.heights_m, cmap="gist_earth", origin="upper", extent=box)
+        depth = np.ma.masked_less_equal(flood.depth_raster_m(T_S), flood.wet_depth_m)
+        shown = ax.imshow(depth, cmap="Blues", origin="upper", extent=box, vmin=0.0, vmax=1.0, alpha=0.85)
+        fig.colorbar(shown, ax=ax, fraction=0.046, pad=0.02, label=f"depth at t = {T_S:.0f} s [m]")
     for t_s, style in ((0.0, ":"), (T_S, "-"), (60.0, "--")):
         r = flood.boundary_en_m(t_s)
         closed = np.vstack([r, r[:1]])
@@ -117,6 +131,6 @@ def preview(name: str, out: Path) -> None:
 
 if __name__ == "__main__":
     here = Path(__file__).resolve().parent
-    for model in MODELS:
+    for model in sys.argv[1:] or MODELS:
         preview(model, here / f"{model}.png")
         print(f"wrote {here / f'{model}.png'}")

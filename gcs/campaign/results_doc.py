@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from gcs.campaign.grid import Mode, expand, parse_grid_axis, parse_seeds
+from gcs.campaign.results_hydro import hydro_section
 from gcs.campaign.store import read_rows
 from gcs.campaign.summary import Stats, distribution, failed_rows, finite_values, ok_rows
 
@@ -80,6 +81,9 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("terrain", "terrain", "1-5"),
     Campaign("large", "large", "1-5"),
     Campaign("circle-pdot", "circle", "1-20", ("control.pdot_reading=full,none",)),
+    Campaign("breach", "breach", "1"),
+    Campaign("river", "river", "1"),
+    Campaign("pluvial", "pluvial", "1"),
 )
 
 PDOT_KEY = "grid:control.pdot_reading"
@@ -257,6 +261,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         *distribution_table(pdot_groups, ["mode", "ṗ reading"]),
         "",
     ]
+    out += hydro_section(ok)
     failed = [(name, r) for name, rows in rows_by_campaign.items() for r in failed_rows(rows)]
     if failed:
         out += ["## Failed runs", "", "| campaign | mode | seed | grid cell | error |", "|---|---|---|---|---|"]

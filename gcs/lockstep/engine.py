@@ -29,8 +29,9 @@ from numpy.typing import NDArray
 
 from comms.frames import enu_to_geodetic, local_ned_to_mission_enu, ned_to_enu
 from comms.messages import NeighbourState
-from comms.radio_model import RadioModel
+from comms.radio_model import GROUND_NODE_ID, radio_model_of
 from gcs.lockstep.backend_choice import BackendKind, make_backend
+from gcs.polygon.radio_node import GroundNode, antenna_enu_m
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
@@ -40,10 +41,11 @@ from mission_plan.jitter import start_delays_s
 from mission_plan.roles import Role
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import render_frame
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_LEADER
 from vehicle_agents.core.onboard import (
@@ -118,10 +120,13 @@ def _perception_for(
     flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int,
     heading_error_rad: float = 0.0,
 ) -> PerceptionResult:
-    """The camera's frame (rendered heading north: the ground does not care which way the drone faces) perceived
-    with the heading the autopilot reports, i.e. off by its heading error, as an agent projects its edge points."""
+    """Render and perceive one frame; perception scales by the downward rangefinder's height above ground, as the
+    agent does with PX4's DISTANCE_SENSOR (equal to the altitude over flat ground), and turns the edge points with
+    the heading the autopilot reports: the frame is rendered heading north (the ground does not care which way the
+    drone faces), so perception is off by the autopilot's heading error, as an agent's is."""
     frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed)
-    return perceive(frame.image_bgr, float(position_enu_m[2]), camera.fov_deg, heading_error_rad)
+    height_m = max(height_above_ground_m(flood, position_enu_m), MIN_ALTITUDE_M)
+    return perceive(frame.image_bgr, height_m, camera.fov_deg, heading_error_rad)
 
 
 def run_lockstep(
@@ -164,9 +169,10 @@ def run_lockstep(
     dt_s = 1.0 / scenario.control_rate_hz
     steps = int(math.floor(duration_s / dt_s + 1e-9))
     radio = InMemoryRadio(
-        RadioModel(scenario.radio.range_m, scenario.radio.loss, scenario.radio.latency_s, scenario.radio.jitter_s, seed),
-        ids,
+        radio_model_of(scenario.radio, seed),
+        [*ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else ids,
     )
+    ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(pads))
     fleet = make_backend(backend, scenario, seed)
     state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
@@ -197,6 +203,9 @@ def run_lockstep(
         positions = local_ned_to_mission_enu(state.position_ned_m, pads)
         positions[~state.alive] = np.nan
         inboxes = radio.deliver(t_s)
+        if ground is not None:
+            ground.hear(inboxes[n].states, t_s)
+            inboxes = inboxes[:n]
         if slot_reached(next_frame_t, t_s):
             next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
             for i, vehicle in enumerate(vehicles):
@@ -208,9 +217,13 @@ def run_lockstep(
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, pads, gps, scenario),
                                perception=perceptions, inbox=inboxes, orders=orders)
         outputs, core = onboard_step(plan, core, inputs)
-        for message in radio.broadcast(t_s, positions, outputs.state_messages):
-            if message is not None:
-                gcs_heard[message.sender_id] = message
+        if ground is None:
+            for message in radio.broadcast(t_s, positions, outputs.state_messages):
+                if message is not None:
+                    gcs_heard[message.sender_id] = message
+        else:
+            radio.broadcast(t_s, ground.with_antenna(positions), [*outputs.state_messages, None])
+            gcs_heard = dict(ground.heard)
         sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)
         commands_enu = ned_to_enu(outputs.velocity_setpoint_ned_mps)
         commands_enu[~sent] = 0.0

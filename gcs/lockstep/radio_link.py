@@ -4,20 +4,28 @@
 Every control step each drone's onboard core hands over its :class:`~comms.messages.NeighbourState`; it is encoded
 as on Zenoh (MessagePack) and decoded once, and that one decoded message goes to every receiver the model lets hear
 it (range on TRUE positions, seeded loss by the message's own ``seq``, as the radio emulator draws it, latency and
-jitter), so what only travels on the wire (the ring radius in ``extras``, the subsampled edge points) reaches the
-control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
+jitter; bursts on the message's own time stamp; each sender's byte budget), so what only travels on the wire (the
+ring radius in ``extras``, the subsampled edge points) reaches the control laws in lockstep exactly as over processes. The ground station hears every decoded broadcast, losslessly,
 as it does on the public state keys.
+
+Each broadcast is also signed and checked once as on Zenoh (:mod:`comms.signing`; the sender is the drone, the
+timestamp its mission time in microseconds), so both engines pay the same per-message cost and a message the
+check refused would be dropped alike. Nobody else can reach this in-memory radio, so its key is a random one of
+this run; it never changes what is delivered.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
+from comms.byte_budget import SenderBudgets
 from comms.messages import DecodeStats, NeighbourState, decode, encode
 from comms.radio_model import RadioModel
+from comms.signing import KEY_BYTES, MissionKey, Signer, Verifier
 from vehicle_agents.core.neighbours import Inbox
 
 
@@ -28,6 +36,9 @@ class InMemoryRadio:
         self.model = model
         self.vehicle_ids = np.asarray(vehicle_ids, dtype=np.int64)
         self.stats = DecodeStats()
+        key = MissionKey(os.urandom(KEY_BYTES))
+        self._signers = {int(vid): Signer(key, int(vid)) for vid in self.vehicle_ids}
+        self.verifier = Verifier(key)
         self._round = 0
         self._sent: dict[int, list[NeighbourState | None]] = {}
         self._pending_t = np.zeros(0)
@@ -37,21 +48,28 @@ class InMemoryRadio:
         self.heard_total = 0
         self.lost_total = 0
         self.bytes_sent = 0
+        self.budgets = SenderBudgets(model.bandwidth_bytes_per_s)
 
     def broadcast(
         self, t_s: float, positions_enu_m: NDArray[np.float64], messages: Sequence[NeighbourState | None]
     ) -> list[NeighbourState | None]:
         """Everyone with a message (None: silent) broadcasts at ``t_s``; returns the decoded messages (what a
-        listener on the public keys receives)."""
+        listener on the public keys receives, the ones over the sender's byte budget included)."""
         decoded: list[NeighbourState | None] = []
-        for message in messages:
+        on_air: list[int] = []
+        for i, message in enumerate(messages):
             if message is None:
                 decoded.append(None)
                 continue
-            payload = encode(message)
+            t_us = round(t_s * 1e6)
+            payload = self._signers[message.sender_id].sign(encode(message), t_us)
             self.bytes_sent += len(payload)
-            decoded.append(decode(NeighbourState, payload, self.stats))
-        senders = np.array([i for i, m in enumerate(decoded) if m is not None], dtype=np.int64)
+            body = self.verifier.check(payload, message.sender_id, t_us).body
+            state = None if body is None else decode(NeighbourState, body, self.stats)
+            decoded.append(state)
+            if state is not None and self.budgets.admit(int(self.vehicle_ids[i]), len(payload), state.t_s):
+                on_air.append(i)
+        senders = np.array(on_air, dtype=np.int64)
         if senders.size == 0:
             return decoded
         seqs = np.array([m.seq if m is not None else 0 for m in decoded], dtype=np.int64)

@@ -6,7 +6,7 @@ import json
 import sys
 from typing import Any
 
-from comms.radio_model import RadioModel
+from comms.radio_model import radio_model_of
 from gcs.lockstep.backend_choice import BackendKind
 from gcs.lockstep.engine import LockstepResult, run_lockstep
 from gcs.mission.options import MissionOptions
@@ -29,7 +29,7 @@ def check_models(scenario: Scenario) -> None:
     try:
         flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
         CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
-        RadioModel(scenario.radio.range_m, scenario.radio.loss, scenario.radio.latency_s, scenario.radio.jitter_s)
+        radio_model_of(scenario.radio, scenario.seed)
     except ValueError as exc:
         raise ScenarioError(str(exc)) from None
 

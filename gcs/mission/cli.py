@@ -7,15 +7,19 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 from collections.abc import Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
+from comms.key_file import KeyFileError, read_key_file
+from gcs.dashboard.cli_checks import check_dashboard_args
 from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
 from mission_plan.control_params import ControlMode
+from mock_autopilot.world.hydro_cache import CACHE_ENV
 from vehicle_agents.control.params import MODES
 
 
@@ -48,7 +52,23 @@ def build_parser() -> argparse.ArgumentParser:
                         help="override a scenario parameter, e.g. --set flood.radius_end_m=20 (repeatable)")
     parser.add_argument("--base-port", type=int, default=14540, help="first vehicle's MAVLink API port (processes)")
     parser.add_argument("--gcs-port", type=int, default=14550, help="ground station MAVLink port (processes)")
+    parser.add_argument("--cache-dir", type=Path, default=None, metavar="DIR",
+                        help="where hydrodynamic flood runs are cached (default: the user's cache directory); "
+                             "every process started inherits it")
     parser.add_argument("--no-live", dest="live", action="store_false", help="no live terminal view")
+    parser.add_argument("--key-file", type=Path, default=None, metavar="FILE",
+                        help="mission key that signs commands and states (default: a new one in <out>/plan/mission.key)")
+    map_args = parser.add_argument_group("live map in a browser (processes engine)")
+    map_args.add_argument("--dashboard-port", type=int, default=8080, metavar="N",
+                          help="port of the live map (default 8080; when busy a free one, printed; 0: any free one)")
+    map_args.add_argument("--no-dashboard", dest="dashboard", action="store_false", help="no live map")
+    map_args.add_argument("--dashboard-host", default="127.0.0.1", metavar="ADDR",
+                          help="address the live map listens on (default 127.0.0.1; any other prints a warning)")
+    map_args.add_argument("--dashboard-token", default=None, metavar="TOKEN",
+                          help="operator token: with it the map's hold / resume / land-all work for whoever sends it; "
+                               "without it the map is read-only")
+    map_args.add_argument("--tiles", type=Path, default=None, metavar="FILE",
+                          help="local raster MBTiles or PMTiles file as the live map's base layer (no online tiles)")
     return parser
 
 
@@ -77,12 +97,21 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         _fail(f"--clock {ns.clock}: only the processes engine has a clock to choose (lockstep is one loop)")
     if ns.backend is not None and ns.engine != "lockstep":
         _fail(f"--backend {ns.backend}: only the lockstep engine has a choice (processes fly the mock PX4 fleet)")
+    if ns.key_file is not None:
+        try:
+            read_key_file(ns.key_file)
+        except KeyFileError as exc:
+            _fail(f"--key-file: {exc}")
+    check_dashboard_args(ns.dashboard_port, ns.dashboard_token, ns.tiles, _fail)
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
+    if ns.cache_dir is not None:
+        os.environ[CACHE_ENV] = str(ns.cache_dir.resolve())
     return MissionOptions(
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
         backend=ns.backend or "kinematic", clock=ns.clock or "paced", agent_timeout_s=ns.agent_timeout_s,
-        strict=ns.strict,
+        strict=ns.strict, key_file=ns.key_file, dashboard_port=ns.dashboard_port if ns.dashboard else None,
+        dashboard_host=ns.dashboard_host, dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
     )
 
 

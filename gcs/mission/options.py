@@ -44,3 +44,10 @@ class MissionOptions:
     """Paced clock: wall seconds an agent may hold a tick before the clock goes on without it."""
     strict: bool = False
     """Exit non-zero when the engine was degraded (an agent or the cameras did not keep their rate)."""
+    key_file: Path | None = None
+    """The mission key to sign with (``comms.key_file``); None: a new one per mission."""
+    dashboard_port: int | None = 8080
+    """Processes engine: the live map's port (busy: a free one, printed; 0: any free one); None: no live map."""
+    dashboard_host: str = "127.0.0.1"
+    dashboard_token: str | None = None
+    dashboard_tiles: Path | None = None

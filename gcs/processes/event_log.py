@@ -1,6 +1,7 @@
 """The mission's event log: one line per event, written to ``events.log`` at once (a crash loses nothing).
 
-Each line carries the wall-clock UTC time and the mission time, so it can be read beside the .tlogs.
+Each line carries the wall-clock UTC time and the mission time, so it can be read beside the .tlogs. Listeners
+(the live map's publisher) get every event as it is written; one that raises is dropped, never the event.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ class EventLog:
         self._mission_time_s = mission_time_s
         self.recent: collections.deque[str] = collections.deque(maxlen=keep_last)
         self.entries: list[tuple[float, str]] = []
+        self.listeners: list[Callable[[float, str], None]] = []
 
     def __call__(self, text: str) -> None:
         t_s = self._mission_time_s()
@@ -26,6 +28,11 @@ class EventLog:
         self.entries.append((t_s, text))
         if not self._file.closed:
             self._file.write(line + "\n")
+        for listener in list(self.listeners):
+            try:
+                listener(t_s, text)
+            except Exception:  # noqa: BLE001 - a broken listener must not cost the mission its log
+                self.listeners.remove(listener)
 
     def close(self) -> None:
         self._file.close()

@@ -3,10 +3,14 @@ GCS link shows (:class:`~gcs.processes.mavlink_watch.VehicleWatch`) and which ag
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Collection, Container, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 from comms.px4 import Px4Mode
 from gcs.processes.mavlink_watch import VehicleWatch
+
+if TYPE_CHECKING:
+    from gcs.processes.mission_children import MissionChildren
 
 OFFBOARD = Px4Mode.OFFBOARD.value
 
@@ -65,3 +69,26 @@ def takeoff_problem(watched: Mapping[int, VehicleWatch], lost: Collection[int], 
             for vid, w in sorted(watched.items())
             if vid not in lost and (w.mode != OFFBOARD or not w.armed)]
     return f"vehicles not airborne in OFFBOARD after {takeoff_timeout_s:g} s: {', '.join(late[:6])}"
+
+
+def startup_problem(vehicle_ids: Sequence[int], watched: Mapping[int, VehicleWatch], reported: Container[int],
+                    agent_alive: Mapping[int, bool], children: MissionChildren | None, *, truth_missing: bool,
+                    gcs_port: int, timeout_s: float, connected: int) -> str:
+    """Why start-up stalled: vehicles silent on the GCS link, agents not started or not reporting over Zenoh (with
+    the last lines of their logs when the station started them), no ground truth."""
+    silent = [vid for vid in vehicle_ids if vid not in watched]
+    no_agent = [vid for vid in vehicle_ids if not agent_alive.get(vid) or vid not in reported]
+    parts = []
+    if silent:
+        tail = f": {children.services['sim'].log_tail(2)}" if children is not None else ""
+        parts.append(f"no MAVLink from vehicles {silent} on GCS port {gcs_port}{tail}")
+    if children is not None and children.to_start:
+        parts.append(f"{len(children.to_start)} agents not started yet (the ones before them were still connecting)")
+    started_silent = [vid for vid in no_agent if children is None or vid in children.agents]
+    if started_silent:
+        tail = f": {children.agents[started_silent[0]].log_tail(2)}" if children is not None else ""
+        parts.append(f"agents {started_silent} did not report over Zenoh{tail}")
+    if truth_missing:
+        parts.append("no ground truth from the simulator bridge")
+    return (f"start-up stalled: nothing came up for {timeout_s:g} s ({connected} of {len(vehicle_ids)} agents "
+            f"connected): " + "; ".join(parts))

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import asyncio
 import datetime as dt
-import math
 import signal
 import time
 import traceback
@@ -31,24 +30,31 @@ from pathlib import Path
 
 from rich.console import Console
 
+from comms.key_file import KeyFileError, read_key_file
 from comms.keys import MissionKeys
 from comms.messages import MissionCommand, NeighbourState, encode
+from comms.signing import MissionKey
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
+from gcs.dashboard.gcs_link import GcsDashboardLink, start_dashboard_process
 from gcs.processes.event_log import EventLog
-from gcs.processes.fleet_readiness import HeartbeatWatch, everyone_heard, everyone_in_offboard, takeoff_problem
+from gcs.processes.fleet_readiness import (HeartbeatWatch, everyone_heard, everyone_in_offboard, startup_problem,
+                                           takeoff_problem)
+from gcs.processes.ground_radio import GroundRadio
+from gcs.processes.intrusion_watch import IntrusionWatch
 from gcs.processes.host_capacity import host_warning
 from gcs.processes.launch import ProcessOptions
-from gcs.processes.live_view import LiveOutput, MissionSnapshot, vehicle_rows
+from gcs.processes.live_view import LiveOutput, station_snapshot
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.processes.mission_children import ChildFailed, MissionChildren, StartupProgress
 from gcs.processes.mission_phase import MissionPhase, PhaseFailure, PhaseObservation, PhaseState, next_phase
 from gcs.processes.mission_summary import print_summary, write_outputs
-from gcs.processes.pace_watch import PaceWatch
+from gcs.processes.pace_watch import ClockStalled, PaceWatch
 from gcs.processes.polygon_publisher import PolygonPublisher
 from gcs.processes.recorder import MissionRecorder
 from gcs.processes.run_verdict import EngineHealth, engine_verdict
 from gcs.processes.sim_evaluation import SimulationEvaluation
+from gcs.processes.supervisor import Supervisor
 from gcs.scenario import Scenario
 from mission_plan.roles import Role
 
@@ -58,10 +64,6 @@ EXIT_INTERRUPTED = 130
 _AIRBORNE_FRACTION = 0.8
 _COMMAND_REPEAT_S = 0.5
 _SNAPSHOT_PERIOD_S = 5.0
-CLOCK_STALL_WALL_S = 60.0
-"""Wall seconds without the mission clock moving, in flight, after which the run fails: the paced clock waits for
-the cameras and the radio as long as they live, so a hung one must still end the run."""
-
 
 class MissionFailed(RuntimeError):
     """The mission cannot go on; the message is the one line the user sees."""
@@ -97,6 +99,13 @@ class GroundStation:
         self.startup = StartupProgress()
         self.children: MissionChildren | None = (
             MissionChildren(scenario, options, out_dir, self.mission, self.events) if simulated else None)
+        self.supervisor = self.children.supervisor if self.children is not None else Supervisor(out_dir)
+        """Every process the station starts (the simulation's and the live map's) is one of its children."""
+        self.key_path: Path | None = options.key_file
+        self.mission_key: MissionKey | None = None
+        self.intrusions: IntrusionWatch | None = None
+        self.radio: GroundRadio | None = None
+        self.dashboard: GcsDashboardLink | None = None
         self.flood_start_utc: dt.datetime | None = None
         self.pace = PaceWatch(self.keys, options.agent_timeout_s, self.events)
         self.failsafes: list[str] = []
@@ -135,11 +144,16 @@ class GroundStation:
             if self.children is not None:
                 self.children.start(self.states)
                 self.agent_alive.update((vid, False) for vid in self.children.agents)
+                self.key_path, self.mission_key = self.children.key_path, self.children.mission_key
             else:
+                self.mission_key = self._read_key()
                 self.agent_alive.update((vid, False) for vid in self.vehicle_ids)
                 self.events("no simulator: watching the vehicles on the GCS link and the agents over Zenoh")
+            self.dashboard = GcsDashboardLink(self, hub, lambda command: self._command(hub, command),
+                                              self.heartbeats.lost_after_s)
+            start_dashboard_process(self)
             code = await self._watch(hub, watcher)
-        except (MissionFailed, ChildFailed) as exc:
+        except (MissionFailed, ChildFailed, ClockStalled) as exc:
             self.events(f"mission failed: {exc}")
             self.console.print(f"[bold red]mission failed:[/] {exc}")
             code = EXIT_FAILED
@@ -151,6 +165,8 @@ class GroundStation:
         finally:
             if self.children is not None:
                 self.children.stop_all()
+            else:
+                self.supervisor.stop_all()
             if watcher is not None:
                 self.failsafes = list(watcher.failsafes)
                 watcher.close()
@@ -172,6 +188,15 @@ class GroundStation:
         """Stop the mission as Ctrl-C does (thread-safe: the loop polls the flag)."""
         self._interrupted = True
 
+    def _read_key(self) -> MissionKey:
+        """The mission key the agents sign with, from ``--key-file`` (without a simulator nobody writes one)."""
+        if self.key_path is None:
+            raise MissionFailed("--key-file: required without a simulator (the agents' mission key)")
+        try:
+            return read_key_file(self.key_path)
+        except KeyFileError as exc:
+            raise MissionFailed(str(exc)) from None
+
     def _open_hub(self) -> ZenohSession:
         try:
             return ZenohSession(ZenohConfig.hub(self.options.zenoh_endpoint))
@@ -185,9 +210,12 @@ class GroundStation:
         pace_buf = hub.subscribe(self.keys.pace_report) if simulated else None
         if pace_buf is not None:
             hub.subscribe(self.keys.camera_stats, pace_buf)
-        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs")
+        assert self.mission_key is not None
+        link = SwarmLink(hub, self.keys, None, via_radio=False, participant="gcs", key=self.mission_key, audit=True)
+        self.intrusions = IntrusionWatch(hub, self.keys, self.mission_key, self.events, lambda: self.mission_t_s)
+        self.radio = GroundRadio.for_scenario(self.scenario, hub, self.keys, self.mission_key) if simulated else None
         started_wall_s = time.monotonic()
-        clock_seen = (self.mission_t_s, started_wall_s)
+        self.pace.clock_moved(self.mission_t_s, started_wall_s)
         tick_s = min(0.05, 1.0 / (self.scenario.control_rate_hz * self.options.speed))
         next_snapshot_s = 0.0
         with LiveOutput(self.console, self.options.live) as view:
@@ -201,11 +229,16 @@ class GroundStation:
                 if truth_buf is not None and self.evaluation is not None:
                     self.mission_t_s = self.evaluation.poll_truth(truth_buf, self.mission_t_s)
                 self._poll_swarm(link)
+                if self.radio is not None:
+                    self.radio.poll(self.mission_t_s)
+                self.intrusions.poll(now_wall_s)
                 if pace_buf is not None:
                     self.pace.poll(pace_buf)
-                clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
+                self.pace.check_clock_moves(self.mission_t_s, self.phase.in_flight, now_wall_s)
                 self._check_children()
                 self._check_vehicles(watcher, now_wall_s)
+                if self.dashboard is not None:
+                    self.dashboard.tick(watcher, now_wall_s)
                 if self._advance(hub, watcher, now_wall_s, started_wall_s):
                     await asyncio.sleep(max(0.2, 2 * tick_s))
                     return EXIT_OK
@@ -213,7 +246,7 @@ class GroundStation:
                     self.recorder.save_snapshot(self.out_dir / "record.npz")
                     next_snapshot_s = now_wall_s + _SNAPSHOT_PERIOD_S
                 if view.due(now_wall_s):
-                    view.show(self._snapshot(watcher, now_wall_s), now_wall_s)
+                    view.show(station_snapshot(self, watcher, now_wall_s), now_wall_s)
 
     def _advance(self, hub: ZenohSession, watcher: MavlinkWatcher, now_wall_s: float, started_wall_s: float) -> bool:
         """The phase's work, one step of the phase machine, and the orders that follow; True once the mission is
@@ -230,7 +263,11 @@ class GroundStation:
         step = next_phase(self.phase_state, self._observe(watcher, now_wall_s, started_wall_s))
         self.phase_state = step.state
         if step.failure is PhaseFailure.STARTUP_STALLED:
-            raise MissionFailed(self._startup_problem(watcher))
+            raise MissionFailed(startup_problem(
+                self.vehicle_ids, watcher.vehicles, self.states, self.agent_alive, self.children,
+                truth_missing=self.evaluation is not None and self.evaluation.truth is None,
+                gcs_port=self.options.gcs_port, timeout_s=self.options.startup_timeout_s,
+                connected=self.startup.connected))
         if step.failure is PhaseFailure.TAKEOFF_TIMEOUT:
             raise MissionFailed(takeoff_problem(watcher.vehicles, self.lost, self.options.takeoff_timeout_s))
         if step.entered is MissionPhase.TAKEOFF:
@@ -244,7 +281,8 @@ class GroundStation:
             self._command(hub, "hold")
             return True
         if now_wall_s >= self._next_command_s and self.phase.in_flight:
-            self._command(hub, "start" if self.phase is MissionPhase.MISSION else "phase")
+            default = "start" if self.phase is MissionPhase.MISSION else "phase"
+            self._command(hub, self.dashboard.command_for(default) if self.dashboard else default)
             self._next_command_s = now_wall_s + _COMMAND_REPEAT_S
         return False
 
@@ -274,17 +312,8 @@ class GroundStation:
         self._command_seq += 1
         msg = MissionCommand(seq=self._command_seq, t_s=self.mission_t_s, command=command,  # type: ignore[arg-type]
                              phase=self.phase.value, flood_clock_start_t_s=self.flood_clock_start_s)
-        hub.put(self.keys.command, encode(msg))
-
-    def _check_clock_moves(self, seen: tuple[float, float], now_wall_s: float) -> tuple[float, float]:
-        """Fail the run when the mission clock has stood still for :data:`CLOCK_STALL_WALL_S` in flight."""
-        if self.mission_t_s != seen[0] or not self.phase.in_flight:
-            return self.mission_t_s, now_wall_s
-        if now_wall_s - seen[1] > CLOCK_STALL_WALL_S:
-            waiting = ", ".join(self.pace.pace_report.waiting_for) if self.pace.pace_report else "unknown"
-            raise MissionFailed(f"the simulation clock has stood at {self.mission_t_s:.2f} s for "
-                                f"{CLOCK_STALL_WALL_S:g} s of wall time (waiting for: {waiting})")
-        return seen
+        assert self.intrusions is not None
+        hub.put(self.keys.command, self.intrusions.sign_command(encode(msg)))
 
     def _last_startup_progress_wall_s(self, started_wall_s: float) -> float:
         expected = self.children.agents if self.children is not None else self.vehicle_ids
@@ -293,6 +322,8 @@ class GroundStation:
     # ------------------------------------------------------------------ what is going on
     def _poll_swarm(self, link: SwarmLink) -> None:
         update = link.poll()
+        if self.intrusions is not None:
+            self.intrusions.observe_states(update.rejected)
         for state in update.states:
             old = self.states.get(state.sender_id)
             if old is None or state.seq > old.seq:
@@ -341,49 +372,14 @@ class GroundStation:
         truth_ok = self.evaluation is None or self.evaluation.truth is not None
         return heard and connected and all(self.agent_alive.values()) and truth_ok
 
-    def _startup_problem(self, watcher: MavlinkWatcher) -> str:
-        silent = [vid for vid in self.vehicle_ids if vid not in watcher.vehicles]
-        no_agent = [vid for vid in self.vehicle_ids if not self.agent_alive.get(vid) or vid not in self.states]
-        children = self.children
-        parts = []
-        if silent:
-            tail = f": {children.services['sim'].log_tail(2)}" if children is not None else ""
-            parts.append(f"no MAVLink from vehicles {silent} on GCS port {self.options.gcs_port}{tail}")
-        if children is not None and children.to_start:
-            parts.append(f"{len(children.to_start)} agents not started yet (the ones before them were still "
-                         f"connecting)")
-        started_silent = [vid for vid in no_agent if children is None or vid in children.agents]
-        if started_silent:
-            tail = f": {children.agents[started_silent[0]].log_tail(2)}" if children is not None else ""
-            parts.append(f"agents {started_silent} did not report over Zenoh{tail}")
-        if self.evaluation is not None and self.evaluation.truth is None:
-            parts.append("no ground truth from the simulator bridge")
-        return (f"start-up stalled: nothing came up for {self.options.startup_timeout_s:g} s "
-                f"({self.startup.connected} of {len(self.vehicle_ids)} agents connected): " + "; ".join(parts))
-
     # ------------------------------------------------------------------ recording and the polygon
     def _polygon(self, hub: ZenohSession, flood_t_s: float) -> None:
-        ring = self.polygon.publish(hub, self.states, self.lost, self.mission_t_s, flood_t_s)
+        heard = self.states if self.radio is None else self.radio.heard
+        ring = self.polygon.publish(hub, heard, self.lost, self.mission_t_s, flood_t_s)
         if self.evaluation is not None:
             self.evaluation.measure(ring, flood_t_s)
 
     # ------------------------------------------------------------------ view and outputs
-    def _snapshot(self, watcher: MavlinkWatcher, now_wall_s: float) -> MissionSnapshot:
-        rows = vehicle_rows(self.vehicle_ids, self.roles, self.groups, watcher.vehicles, self.states, self.agent_alive,
-                            self.mission_t_s, now_wall_s)
-        boundary = [vid for vid in self.vehicle_ids if self.roles[vid] == Role.BOUNDARY]
-        evaluation, pace = self.evaluation, self.pace.pace_report
-        return MissionSnapshot(
-            scenario=self.scenario.name, mode=self.options.mode, phase=self.phase.value, mission_t_s=self.mission_t_s,
-            flood_t_s=None if self.flood_clock_start_s is None else self.flood_time_s(), duration_s=self.duration_s,
-            speed=self.options.speed, vehicles=rows, boundary_count=len(boundary),
-            encircled=sum(1 for vid in boundary if vid in self.states and self.states[vid].encircle_complete),
-            encircle_time_s=self.recorder.encircle_time_s, polygon_area_m2=self.polygon.area_m2,
-            polygon_iou=evaluation.polygon_iou if evaluation else math.nan,
-            coverage=evaluation.coverage if evaluation else math.nan, events=tuple(self.events.recent),
-            clock=self.options.clock, real_time_factor=pace.recent_real_time_factor if pace else math.nan,
-        )
-
     def _finish(self, code: int) -> int:
         """Write the outputs and the verdicts; returns the exit code (``--strict``: 1 on a degraded engine)."""
         engine = engine_verdict(self.pace.pace_report, self.pace.camera_stats, self.vehicle_ids, self.scenario.control_rate_hz,

@@ -10,7 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from comms.zenoh_session import DEFAULT_ENDPOINT
+from gcs.polygon.radio_node import antenna_enu_m
 from gcs.scenario import Scenario
 from mission_plan.control_params import ControlMode
 from mock_autopilot.ports import onboard_port
@@ -45,6 +48,15 @@ class ProcessOptions:
     strict: bool = False
     """A degraded engine (rates not held, agents left behind) fails the run (exit 1)."""
     extra_agent_args: tuple[str, ...] = field(default=())
+    key_file: Path | None = None
+    """The mission key to use (copied into the plan folder); None: a new one per mission."""
+    dashboard_port: int | None = None
+    """The live map's port (0: any free one; busy: a free one); None: no live map (``--no-dashboard``)."""
+    dashboard_host: str = "127.0.0.1"
+    dashboard_token: str | None = None
+    """Operator commands from the live map need this token; without one the map is read-only."""
+    dashboard_tiles: Path | None = None
+    """A local MBTiles or PMTiles file served as the live map's base layer."""
     sim_faults: tuple[str, ...] = field(default=())
     """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
 
@@ -65,13 +77,28 @@ def cameras_command(options: ProcessOptions, plan: Path) -> list[str]:
     return ["mock_autopilot.sim_bridge.cameras", "--plan", str(plan), "--connect", options.zenoh_endpoint]
 
 
-def radio_command(options: ProcessOptions, scenario: Scenario, mission: str) -> list[str]:
+def radio_command(options: ProcessOptions, scenario: Scenario, mission: str, key_file: Path) -> list[str]:
+    """The radio emulator, which relays only states signed with the mission key in ``key_file``."""
     radio = scenario.radio
     return [
         "comms.radio", "--mission", mission, "--range-m", f"{radio.range_m:g}", "--loss", f"{radio.loss:g}",
         "--latency-s", f"{radio.latency_s:g}", "--jitter-s", f"{radio.jitter_s:g}", "--seed", str(scenario.seed),
+        "--burst-loss", f"{radio.burst_loss:g}", "--burst-mean-s", f"{radio.burst_mean_s:g}",
+        "--burst-gap-s", f"{radio.burst_gap_s:g}", "--edge-loss", f"{radio.edge_loss:g}",
+        "--edge-loss-exponent", f"{radio.edge_loss_exponent:g}",
+        "--bandwidth-bytes-per-s", f"{radio.bandwidth_bytes_per_s:g}",
+        *ground_node_args(scenario),
         "--speed", f"{options.speed:g}", "--connect", options.zenoh_endpoint, "--clock", options.clock,
+        "--key-file", str(key_file),
     ]
+
+
+def ground_node_args(scenario: Scenario) -> list[str]:
+    """``--ground-node E N U`` when the ground station is a radio node (``radio.gcs_lossless = false``)."""
+    if scenario.radio.gcs_lossless:
+        return []
+    antenna = antenna_enu_m(np.array([v.pad_enu_m for v in scenario.vehicles], dtype=float))
+    return ["--ground-node", *(f"{c:.3f}" for c in antenna)]
 
 
 MESH_LIMIT = 50

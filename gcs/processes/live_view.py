@@ -11,6 +11,7 @@ import math
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from rich.console import Console, Group, RenderableType
 from rich.live import Live
@@ -21,6 +22,11 @@ from rich.text import Text
 
 from comms.messages import FLAG_SEES_EDGE, NeighbourState
 from gcs.processes.mavlink_watch import VehicleWatch
+from mission_plan.roles import Role
+
+if TYPE_CHECKING:
+    from gcs.processes.ground_station import GroundStation
+    from gcs.processes.mavlink_watch import MavlinkWatcher
 
 
 @dataclass(frozen=True)
@@ -81,6 +87,25 @@ class MissionSnapshot:
     clock: str = "free"
     real_time_factor: float = float("nan")
     """Mission seconds per wall second achieved over the last report period (the simulator's pace report)."""
+
+
+def station_snapshot(station: GroundStation, watcher: MavlinkWatcher, now_wall_s: float) -> MissionSnapshot:
+    """What the view shows of the ground station right now."""
+    rows = vehicle_rows(station.vehicle_ids, station.roles, station.groups, watcher.vehicles, station.states,
+                        station.agent_alive, station.mission_t_s, now_wall_s)
+    boundary = [vid for vid in station.vehicle_ids if station.roles[vid] == Role.BOUNDARY]
+    evaluation, pace = station.evaluation, station.pace.pace_report
+    return MissionSnapshot(
+        scenario=station.scenario.name, mode=station.options.mode, phase=station.phase.value,
+        mission_t_s=station.mission_t_s, duration_s=station.duration_s,
+        flood_t_s=None if station.flood_clock_start_s is None else station.flood_time_s(),
+        speed=station.options.speed, vehicles=rows, boundary_count=len(boundary),
+        encircled=sum(1 for vid in boundary if vid in station.states and station.states[vid].encircle_complete),
+        encircle_time_s=station.recorder.encircle_time_s, polygon_area_m2=station.polygon.area_m2,
+        polygon_iou=evaluation.polygon_iou if evaluation else math.nan,
+        coverage=evaluation.coverage if evaluation else math.nan, events=tuple(station.events.recent),
+        clock=station.options.clock, real_time_factor=pace.recent_real_time_factor if pace else math.nan,
+    )
 
 
 def _fmt(value: float, spec: str, missing: str = "-") -> str:

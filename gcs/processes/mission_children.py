@@ -15,6 +15,8 @@ import time
 from collections.abc import Callable, Container, Mapping
 from pathlib import Path
 
+from comms.key_file import KeyFileError, read_key_file
+from comms.signing import MissionKey
 from gcs.plan.files import write_plans
 from gcs.processes.host_capacity import agent_niceness
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
@@ -55,6 +57,8 @@ class MissionChildren:
         self.to_start: list[int] = []
         self.exited_agents: set[int] = set()
         self._plans: Mapping[int, Path] = {}
+        self.key_path: Path | None = None
+        self.mission_key: MissionKey | None = None
         self._fleet_size = len(scenario.vehicles)
 
     @staticmethod
@@ -62,12 +66,18 @@ class MissionChildren:
         return 4 * len(os.sched_getaffinity(0))
 
     def start(self, connected: Container[int]) -> None:
-        """Write every plan file, start the fleet+truth, cameras and radio, then the first agents."""
+        """Write every plan file and the mission key (``--key-file`` or a new one), start the fleet+truth, cameras
+        and radio, then the first agents."""
         opts = self.options
-        plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission)
+        try:
+            plans = write_plans(self.scenario, opts.mode, (self.out_dir / "plan").resolve(), self.mission, opts.key_file)
+            self.mission_key = read_key_file(plans.key)
+        except KeyFileError as exc:
+            raise ChildFailed(str(exc)) from None
+        self.key_path = plans.key
         self.services["sim"] = self.supervisor.start("sim", sim_command(opts, plans.fleet))
         self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, plans.cameras))
-        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission))
+        self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission, plans.key))
         self._plans = plans.agents
         self.to_start = [v.vehicle_id for v in self.scenario.vehicles]
         self._write_pids()

@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 
 
-class MissionPhase(enum.Enum):
+class MissionPhase(enum.StrEnum):
     STARTING = "starting"
     TAKEOFF = "takeoff"
     MISSION = "mission"

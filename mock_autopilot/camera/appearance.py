@@ -35,6 +35,51 @@ _DRY_GRASS = np.array([70.0, 150.0, 150.0])
 _SOIL = np.array([70.0, 100.0, 130.0])
 _WATER_DEEP = np.array([120.0, 95.0, 70.0])
 _WATER_SKY = np.array([185.0, 165.0, 145.0])
+WATER_TURBID_BGR = np.array([138.0, 124.0, 100.0], np.float32)
+"""Shallow water over soil: silt-laden, grey-brown, only a little bluer than grey (the edge is a soft step)."""
+TURBID_DEPTH_M = 0.25
+"""Water shallower than this shows the turbid colour, fully at the shoreline and fading out at this depth."""
+DEEP_DEPTH_M = 1.2
+"""Water darkens with depth up to this depth, where it has lost ``DEEP_DARKENING`` of its brightness."""
+DEEP_DARKENING = 0.3
+
+
+STREAK_SPACING_M = 0.7
+"""Distance between flow streaks across the current [m]."""
+STREAK_WAVE_M = 3.0
+"""Along the current the streaks wander with this wavelength [m]."""
+STREAK_CONTRAST = 0.07
+"""Brightness swing of the streaks on fast water (kept small: they are texture, not a second kind of ground)."""
+STREAK_FULL_SPEED_MPS = 0.4
+"""Water this fast shows the full streak contrast; still water shows none."""
+
+
+@lru_cache(maxsize=4)
+def streak_tile(seed: int) -> NDArray[np.float32]:
+    """(TILE_PX, TILE_PX) streak pattern in [-1, 1], lines along the tile's x axis (periodic, so it tiles): the
+    renderer turns it to run along the current. Lines ``STREAK_SPACING_M`` apart that wander every
+    ``STREAK_WAVE_M``, with a seeded phase."""
+    rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x57EA])
+    n = TILE_PX
+    tile_m = n * TILE_RESOLUTION_M
+    lines = round(tile_m / STREAK_SPACING_M)
+    waves = round(tile_m / STREAK_WAVE_M)
+    y, x = np.mgrid[0:n, 0:n] * (2.0 * math.pi / n)
+    wander = 1.5 * np.sin(waves * x + rng.uniform(0.0, 2.0 * math.pi)) + 0.6 * fractal_noise(n, 2.0, rng)
+    return np.sin(lines * y + wander).astype(np.float32)
+
+
+def streak_strength(speed_mps: NDArray[np.float32]) -> NDArray[np.float32]:
+    """How much of the streak contrast water of this speed shows: none when still, all from the full speed on."""
+    return (STREAK_CONTRAST * _smoothstep(speed_mps / np.float32(STREAK_FULL_SPEED_MPS))).astype(np.float32)
+
+
+def water_shading(depth_m: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """(turbid weight, brightness) per pixel of water at ``depth_m``: shallow water near the shore is the turbid
+    colour, deep water is darker (less light comes back from the bottom)."""
+    turbid = 1.0 - _smoothstep(depth_m / TURBID_DEPTH_M)
+    brightness = 1.0 - DEEP_DARKENING * _smoothstep((depth_m - TURBID_DEPTH_M) / (DEEP_DEPTH_M - TURBID_DEPTH_M))
+    return turbid.astype(np.float32), brightness.astype(np.float32)
 
 
 @dataclass(frozen=True)
@@ -58,7 +103,7 @@ class SensorEffects:
     """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise [DN], rounded."""
 
 
-def _smoothstep(x: NDArray[np.float64]) -> NDArray[np.float64]:
+def _smoothstep(x: NDArray[np.floating]) -> NDArray[np.floating]:
     x = np.clip(x, 0.0, 1.0)
     return x * x * (3.0 - 2.0 * x)
 

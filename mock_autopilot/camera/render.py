@@ -1,7 +1,9 @@
 """Render what a drone's downward camera sees of the flood, with the ground-truth water mask (SPEC §3).
 
-Each pixel centre is projected to the ground (nadir pinhole over flat ground, see ``camera/model.py``), the flood
-model says whether it is water, and the pixel takes the world-anchored land or water texture. Land within a
+Each pixel centre is projected to the ground (nadir pinhole over locally flat ground at the height above ground a
+rangefinder would read, see ``camera/model.py`` and ``world/ground.py``), the flood model says whether it is water,
+and the pixel takes the world-anchored land or water texture; a flood that knows its depth (the hydro model) shades
+its water by depth (turbid at the shore, darker where deep) and draws streaks along its flow. Land within a
 seeded, varying distance of the water is darkened into a wet shoreline band; then lighting, a slight optical blur
 and sensor noise are applied. Everything is vectorised and the textures are cached per seed, so a 128x128 frame
 costs a fraction of a millisecond (see ``bench/camera_perception.py``).
@@ -22,17 +24,24 @@ from mock_autopilot.camera.appearance import (
     NOISE_FRAMES,
     TILE_PX,
     TILE_RESOLUTION_M,
+    WATER_TURBID_BGR,
     WET_BAND_UNIT_M,
     ground_textures,
     sensor_effects,
+    streak_strength,
+    streak_tile,
+    water_shading,
 )
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 
 MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
 MARGIN_PX = 8
 """Extra ring of pixels evaluated around the image so the wet band near the image border sees off-image water."""
+DEPTH_LUT_STEP_M = 0.005
+"""Depth resolution of the water shading table [m] (256 steps: to 1.275 m, deeper water shades as that)."""
 _WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
 """How much fully wet soil loses of each colour channel (B, G, R)."""
 
@@ -47,6 +56,13 @@ class RenderedFrame:
     """(H, W) ground truth: True where the pixel centre is water."""
     ground_sample_m: float = 0.0
     """Ground distance of one pixel [m/px]; 0 for a blank frame."""
+
+
+@lru_cache(maxsize=64)
+def _knows_depth(model_type: type) -> bool:
+    """Whether a flood model class is a ``flood_model.DepthField`` (checked once per class: a Protocol check is slow, and
+    one with a data member cannot be made on a class)."""
+    return all(callable(getattr(model_type, name, None)) for name in ("depth_m", "depth_on_affine_grid_m"))
 
 
 @lru_cache(maxsize=16)
@@ -101,13 +117,14 @@ def render_frame(
     pos = np.asarray(position_enu_m, dtype=float).reshape(-1)
     if pos.size < 3 or not (np.all(np.isfinite(pos[:3])) and math.isfinite(yaw_ned_rad) and math.isfinite(t_s)):
         return _blank(camera)
-    altitude_m = max(float(pos[2]), MIN_ALTITUDE_M)
+    altitude_m = max(height_above_ground_m(flood, pos[:3]), MIN_ALTITUDE_M)
     gsd = camera.ground_sample_m(altitude_m)
     m = MARGIN_PX
     h, w = camera.height_px, camera.width_px
 
     points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m)
-    water_padded = np.asarray(flood.is_water(points, t_s), dtype=bool)
+    depth = flood.depth_on_affine_grid_m(points, t_s) if _knows_depth(type(flood)) else None  # type: ignore[attr-defined]
+    water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)  # type: ignore[attr-defined]
     water = water_padded[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
@@ -124,7 +141,12 @@ def render_frame(
         wetness = cv2.max(wetness, 0.0)
         # Wet soil is darker, and keeps more red than blue: a per-channel darkening of the land near the water.
         wet_factor = cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
-        colour = cv2.copyTo(_sample_tile(textures.water_bgr, to_tile, w, h), water.view(np.uint8), colour)
+        water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
+        if depth is not None:
+            flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
+            streaks = _streaks(flow, points[m : m + h, m : m + w], seed)
+            water_colour = _shade_by_depth(water_colour, depth[m : m + h, m : m + w], streaks)
+        colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
 
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
     gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
@@ -132,6 +154,55 @@ def render_frame(
     image = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
 
+
+
+def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], seed: int) -> NDArray[np.float32]:
+    """Per-pixel brightness gain of flow streaks: the world-anchored streak tile turned to run along the current
+    below the drone, with the contrast of its speed (one warp of a cached tile; a frame spans a few metres, over
+    which the current hardly turns)."""
+    shape = points_en_m.shape[:2]
+    speed = math.hypot(*flow_mps)
+    strength = float(streak_strength(np.float32(speed)))
+    if strength <= 0.0:
+        return np.ones(shape, np.float32)
+    c, s = flow_mps[0] / speed, flow_mps[1] / speed
+    origin = points_en_m[0, 0]
+    d_col = points_en_m[0, 1] - origin
+    d_row = points_en_m[1, 0] - origin
+    k = 1.0 / TILE_RESOLUTION_M
+    tile_m = TILE_PX * TILE_RESOLUTION_M
+    along0, across0 = (origin[0] * c + origin[1] * s) % tile_m, (-origin[0] * s + origin[1] * c) % tile_m
+    to_tile = np.array([
+        [k * (d_col[0] * c + d_col[1] * s), k * (d_row[0] * c + d_row[1] * s), k * along0],
+        [k * (-d_col[0] * s + d_col[1] * c), k * (-d_row[0] * s + d_row[1] * c), k * across0],
+    ])
+    pattern = cv2.warpAffine(streak_tile(seed), to_tile, (shape[1], shape[0]),
+                             flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_WRAP)
+    return cv2.addWeighted(pattern, strength, pattern, 0.0, 1.0)
+
+
+@lru_cache(maxsize=1)
+def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture and the turbid colour added (BGR), so
+    shading a frame is two table lookups: ``water · gain + offset``."""
+    depth = np.arange(256, dtype=np.float32) * DEPTH_LUT_STEP_M
+    turbid, brightness = water_shading(depth)
+    gain = (brightness * (1.0 - turbid))[:, None].repeat(3, axis=1)
+    offset = turbid[:, None] * WATER_TURBID_BGR[None, :]
+    return gain.reshape(1, 256, 3).astype(np.float32), offset.reshape(1, 256, 3).astype(np.float32)
+
+
+def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32],
+                    streaks: NDArray[np.float32]) -> NDArray[np.uint8]:
+    """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
+    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated), with flow streaks
+    (``appearance.streak_gain``) on the clear part."""
+    gain, offset = _depth_luts()
+    step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
+    step3 = cv2.merge([step, step, step])
+    clear_gain = cv2.multiply(cv2.LUT(step3, gain), cv2.merge([streaks, streaks, streaks]))
+    shaded = cv2.multiply(water_bgr, clear_gain, dtype=cv2.CV_32F)
+    return cv2.add(shaded, cv2.LUT(step3, offset), dtype=cv2.CV_8U)
 
 
 def _texture_transform(

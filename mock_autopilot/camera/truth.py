@@ -23,6 +23,10 @@ ACCURACY_FLOODS: Mapping[str, Mapping[str, Any]] = {
     "drift": {"model": "drift", "shape": "circle", "velocity_en_mps": [0.12, 0.09]},
     "terrain": {"model": "terrain", "level_start_m": 1.0, "level_end_m": 2.0, "terrain_size_m": 120.0, "cell_m": 0.5,
                 "basin_scale_m": 30.0, "relief_m": 4.0, "roughness": 0.5, "terrain_seed": 7},
+    "hydro": {"model": "hydro", "landform": "farmland", "terrain_size_m": 80.0, "mesh_cell_m": 2.0, "relief_m": 0.3,
+              "slope": 0.01, "slope_toward_deg": 30.0, "terrain_seed": 7, "run_s": 100.0, "start_s": 30.0,
+              "sources": [{"kind": "point", "at_en_m": [0.0, 0.0], "hydrograph_t_s": [0.0, 20.0],
+                           "hydrograph_m3ps": [0.0, 1.2]}]},
 }
 """One ``[flood]`` table per model for the perception accuracy test and benchmark, so both score the same floods."""
 

@@ -43,6 +43,8 @@ from mock_autopilot.sim_bridge.pace_keeper import PaceKeeper
 from mock_autopilot.vehicle import VehicleConfig
 from mock_autopilot.weather_model import Weather
 from mock_autopilot.world.config import flood_model_from_config
+from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import relative_ground_m
 
 log = logging.getLogger("mock_autopilot.sim_bridge")
 
@@ -67,6 +69,13 @@ def vehicle_truths(truth: FleetTruth) -> list[VehicleTruth]:
                      float(truth.yaw_ned_rad[i]), bool(truth.alive[i]))
         for i in range(len(truth.system_ids))
     ]
+
+
+def set_ground_below(fleet: Fleet, truth: FleetTruth, flood: FloodModel) -> None:
+    """Tell each vehicle how high the ground below it is, for its DISTANCE_SENSOR."""
+    ground = relative_ground_m(flood, np.asarray(truth.position_enu_m, float)[:, :2])
+    for vehicle, ground_m in zip(fleet.vehicles, ground):
+        vehicle.ground_below_enu_m = float(ground_m)
 
 
 def setpoint_ages(fleet: Fleet, truth: FleetTruth, now_s: float) -> list[float]:
@@ -129,8 +138,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not (camera_hz > 0 and truth_hz > 0):
             raise ValueError("--camera-hz and --truth-hz must be > 0")
         world = plan.world
-        flood = (None if args.cameras == "none"
-                 else flood_model_from_config(world.flood, seed=world.seed, base_dir=world.source_dir))
+        # The cameras render the flood and the rangefinders measure its ground (flat but for the hydro model).
+        flood = flood_model_from_config(world.flood, seed=world.seed, base_dir=world.source_dir)
     except (ScenarioError, PlanFileError, KeyNameError, FaultSpecError, ValueError) as exc:
         print(f"sim_bridge: {exc}", file=sys.stderr)
         return 2
@@ -157,7 +166,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 1
         with session:
             streamer = None
-            if flood is not None:
+            if args.cameras != "none":
                 streamer = CameraStreamer(
                     session, mission, flood, camera, plan.seed, 1.0 / camera_hz,
                     camera_users({v.vehicle_id: v.role for v in plan.vehicles}, args.cameras),
@@ -167,6 +176,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             def publish_truth(t_s: float) -> None:
                 truth = fleet.truth()
+                set_ground_below(fleet, truth, flood)
                 bridge.publish_truth(t_s, vehicle_truths(truth))
                 setpoint_ages_s.extend(setpoint_ages(fleet, truth, t_s))
 
@@ -181,6 +191,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                     continue
                 now_s = fleet.clock.now_s()
                 truth = fleet.truth()
+                set_ground_below(fleet, truth, flood)
                 bridge.tick(now_s, vehicle_truths(truth))
                 setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
                 wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))

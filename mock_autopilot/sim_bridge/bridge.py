@@ -23,12 +23,14 @@ from numpy.typing import NDArray
 
 from comms.keys import MissionKeys
 from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, encode
+from comms.signing import unsigned_body
 from comms.zenoh_session import ZenohSession
 from mission_plan.roles import Role
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import render_frame
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.flood_model import FloodModel
+from mock_autopilot.world.ground import height_above_ground_m
 
 MIN_CAMERA_ALTITUDE_M = 1.0
 """Below this the camera sees only the pad: no frames are sent (a real companion computer would send them, but no
@@ -67,7 +69,7 @@ def camera_frame_message(
         vehicle_id=vehicle.vehicle_id,
         seq=seq,
         t_s=float(t_s),
-        altitude_m=float(vehicle.position_enu_m[2]),
+        altitude_m=max(height_above_ground_m(flood, vehicle.position_enu_m), MIN_ALTITUDE_M),
         yaw_ned_rad=float(vehicle.yaw_ned_rad),
         fov_deg=camera.fov_deg,
         width_px=image.shape[1],
@@ -137,8 +139,10 @@ class CameraStreamer:
         return 0.0 if self.flood_clock_start_s is None else max(0.0, now_s - self.flood_clock_start_s)
 
     def follow_commands(self) -> None:
+        """The flood clock's start from the ground station's command. The simulated world holds no mission key
+        (it has no counterpart on a real mission), so it reads the command without checking its tag."""
         for item in self._commands.drain():
-            msg = decode(MissionCommand, item.payload)
+            msg = decode(MissionCommand, unsigned_body(item.payload))
             if msg is not None and msg.flood_clock_start_t_s is not None and self.flood_clock_start_s is None:
                 self.flood_clock_start_s = msg.flood_clock_start_t_s
                 if self._on_flood_start is not None:

@@ -20,6 +20,8 @@ after the growth ends):
   above the source, see ``heightmap.fractal_basin``) or a DEM image ``dem_path`` (16-bit or 8-bit single-channel
   PNG/TIFF read with OpenCV; ``dem_cell_m``, ``dem_height_scale_m`` per count, ``dem_height_offset_m``,
   ``dem_center_en_m``; image row 0 is the north edge).
+- ``hydro``: a shallow-water run (ANUGA) over a seeded landform or a DEM, with sources, rain and boundaries; see
+  ``hydro_config`` for its keys.
 """
 
 from __future__ import annotations
@@ -31,88 +33,17 @@ from typing import Any
 
 import numpy as np
 
-from mission_plan.unknown_keys import first_unknown, unknown_key_message
 from mock_autopilot.world.drift import DriftingFlood
 from mock_autopilot.world.ellipse import GrowingEllipse
+from mock_autopilot.world.flood_fields import FloodConfigError, Fields, dem_heightmap
 from mock_autopilot.world.flood_model import ExpandingCircle, FloodModel
-from mock_autopilot.world.heightmap import HeightmapError, fractal_basin, load_dem
+from mock_autopilot.world.heightmap import fractal_basin
+from mock_autopilot.world.hydro_config import hydro_flood
 from mock_autopilot.world.nonconvex import NonConvexFlood
 from mock_autopilot.world.terrain import TerrainFlood
 
 
-class FloodConfigError(ValueError):
-    """An invalid ``[flood]`` table; the message names the offending field (``flood.<key>: ...``)."""
-
-
-class _Fields:
-    """Reads typed fields out of a table and remembers which keys were used, to reject unknown keys."""
-
-    def __init__(self, table: Mapping[str, Any], base_dir: Path, prefix: str = "flood") -> None:
-        self.table = table
-        self.base_dir = base_dir
-        self.prefix = prefix
-        self.used: set[str] = {"model"}
-
-    def name(self, key: str) -> str:
-        return f"{self.prefix}.{key}"
-
-    def number(self, key: str, default: float, *, positive: bool = False, non_negative: bool = False) -> float:
-        self.used.add(key)
-        value = self.table.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise FloodConfigError(f"{self.name(key)}: must be a number, got {value!r}")
-        value = float(value)
-        if not math.isfinite(value):
-            raise FloodConfigError(f"{self.name(key)}: must be finite, got {value!r}")
-        if positive and value <= 0.0:
-            raise FloodConfigError(f"{self.name(key)}: must be > 0, got {value:g}")
-        if non_negative and value < 0.0:
-            raise FloodConfigError(f"{self.name(key)}: must be >= 0, got {value:g}")
-        return value
-
-    def integer(self, key: str, default: int) -> int:
-        self.used.add(key)
-        value = self.table.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise FloodConfigError(f"{self.name(key)}: must be an integer, got {value!r}")
-        return value
-
-    def pair(self, key: str, default: tuple[float, float], *, positive: bool = False) -> tuple[float, float]:
-        self.used.add(key)
-        value = self.table.get(key, default)
-        if not isinstance(value, (list, tuple)) or len(value) != 2:
-            raise FloodConfigError(f"{self.name(key)}: must be a pair [a, b] of numbers, got {value!r}")
-        out = []
-        for item in value:
-            if isinstance(item, bool) or not isinstance(item, (int, float)) or not math.isfinite(float(item)):
-                raise FloodConfigError(f"{self.name(key)}: must be a pair of finite numbers, got {value!r}")
-            if positive and float(item) <= 0.0:
-                raise FloodConfigError(f"{self.name(key)}: both values must be > 0, got {value!r}")
-            out.append(float(item))
-        return (out[0], out[1])
-
-    def text(self, key: str, default: str | None) -> str | None:
-        self.used.add(key)
-        value = self.table.get(key, default)
-        if value is not None and not isinstance(value, str):
-            raise FloodConfigError(f"{self.name(key)}: must be a string, got {value!r}")
-        return value
-
-    def reject_unknown(self) -> None:
-        """A key the model never read is a typo or belongs to another model: name it and the closest key it reads."""
-        unknown = first_unknown(self.table, self.used)
-        if unknown is not None:
-            raise FloodConfigError(unknown_key_message(
-                self.prefix, unknown, self.used, what=f"unknown key for model {self.table.get('model')!r}"))
-
-    def growth(self, start_key: str, end_key: str, start: float, end: float) -> None:
-        if end < start:
-            raise FloodConfigError(
-                f"{self.name(end_key)}: must be >= {self.name(start_key)} ({start:g}); floods grow, got {end:g}"
-            )
-
-
-def _circle(f: _Fields, seed: int) -> FloodModel:
+def _circle(f: Fields, seed: int) -> FloodModel:
     center = f.pair("center_en_m", (0.0, 0.0))
     r0 = f.number("radius_start_m", 12.0, positive=True)
     r1 = f.number("radius_end_m", 16.0, positive=True)
@@ -121,7 +52,7 @@ def _circle(f: _Fields, seed: int) -> FloodModel:
     return ExpandingCircle(center_en_m=center, radius_start_m=r0, radius_end_m=r1, growth_duration_s=duration)
 
 
-def _ellipse(f: _Fields, seed: int) -> FloodModel:
+def _ellipse(f: Fields, seed: int) -> FloodModel:
     center = f.pair("center_en_m", (0.0, 0.0))
     axes0 = f.pair("semi_axes_start_m", (14.0, 9.0), positive=True)
     axes1 = f.pair("semi_axes_end_m", (19.0, 12.0), positive=True)
@@ -139,7 +70,7 @@ def _ellipse(f: _Fields, seed: int) -> FloodModel:
     )
 
 
-def _nonconvex(f: _Fields, seed: int) -> FloodModel:
+def _nonconvex(f: Fields, seed: int) -> FloodModel:
     center = f.pair("center_en_m", (0.0, 0.0))
     r0 = f.number("radius_start_m", 12.0, positive=True)
     r1 = f.number("radius_end_m", 16.0, positive=True)
@@ -163,14 +94,14 @@ def _nonconvex(f: _Fields, seed: int) -> FloodModel:
     )
 
 
-_SHAPES: dict[str, Callable[[_Fields, int], FloodModel]] = {
+_SHAPES: dict[str, Callable[[Fields, int], FloodModel]] = {
     "circle": _circle,
     "ellipse": _ellipse,
     "nonconvex": _nonconvex,
 }
 
 
-def _drift(f: _Fields, seed: int) -> FloodModel:
+def _drift(f: Fields, seed: int) -> FloodModel:
     shape_name = f.text("shape", "circle")
     if shape_name not in _SHAPES:
         raise FloodConfigError(f"{f.name('shape')}: unknown shape {shape_name!r}; expected one of {', '.join(_SHAPES)}")
@@ -183,24 +114,14 @@ def _drift(f: _Fields, seed: int) -> FloodModel:
     )
 
 
-def _terrain(f: _Fields, seed: int) -> FloodModel:
+def _terrain(f: Fields, seed: int) -> FloodModel:
     source = f.pair("source_en_m", (0.0, 0.0))
     level0 = f.number("level_start_m", 1.0)
     level1 = f.number("level_end_m", 2.0)
     f.growth("level_start_m", "level_end_m", level0, level1)
     duration = f.number("growth_duration_s", 60.0, non_negative=True)
-    dem_path = f.text("dem_path", None)
-    if dem_path is not None:
-        path = Path(dem_path) if Path(dem_path).is_absolute() else f.base_dir / dem_path
-        cell = f.number("dem_cell_m", 1.0, positive=True)
-        scale = f.number("dem_height_scale_m", 0.01, positive=True)
-        offset = f.number("dem_height_offset_m", 0.0)
-        center = f.pair("dem_center_en_m", source)
-        try:
-            heightmap = load_dem(path, cell, scale, offset, center)
-        except HeightmapError as exc:
-            raise FloodConfigError(f"{f.name('dem_path')}: {exc}") from None
-    else:
+    heightmap = dem_heightmap(f, source)
+    if heightmap is None:
         size = f.number("terrain_size_m", 120.0, positive=True)
         cell = f.number("cell_m", 0.5, positive=True)
         cells = size / cell
@@ -239,16 +160,17 @@ def _terrain(f: _Fields, seed: int) -> FloodModel:
     return flood
 
 
-_BUILDERS: dict[str, Callable[[_Fields, int], FloodModel]] = {
+_BUILDERS: dict[str, Callable[[Fields, int], FloodModel]] = {
     **_SHAPES,
     "drift": _drift,
     "terrain": _terrain,
+    "hydro": hydro_flood,
 }
 
 MAX_TERRAIN_CELLS = 2048
 """Largest fractal terrain side [cells] (the refined grid for area and boundary is 4x this)."""
 
-MODEL_NAMES: tuple[str, ...] = ("circle", "ellipse", "nonconvex", "drift", "terrain")
+MODEL_NAMES: tuple[str, ...] = ("circle", "ellipse", "nonconvex", "drift", "terrain", "hydro")
 
 
 def flood_model_from_config(
@@ -265,7 +187,7 @@ def flood_model_from_config(
     model = table.get("model", "circle")
     if not isinstance(model, str) or model not in _BUILDERS:
         raise FloodConfigError(f"flood.model: unknown model {model!r}; expected one of {', '.join(MODEL_NAMES)}")
-    fields = _Fields(table, Path(base_dir) if base_dir is not None else Path.cwd())
+    fields = Fields(table, Path(base_dir) if base_dir is not None else Path.cwd())
     flood = _BUILDERS[model](fields, int(seed))
     fields.reject_unknown()
     return flood

@@ -35,6 +35,25 @@ class FloodModel(Protocol):
         ...
 
 
+@runtime_checkable
+class DepthField(Protocol):
+    """A flood that knows how deep its water is (the hydro model); water is where the depth exceeds ``wet_depth_m``."""
+
+    wet_depth_m: float
+
+    def depth_m(self, points_en_m: ArrayLike, t_s: float) -> NDArray[np.float32]:
+        """Water depth [m] at each (..., 2) point at time ``t_s``."""
+        ...
+
+    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float) -> NDArray[np.float32]:
+        """``depth_m`` for an (H, W, 2) grid of points affine in its indices (faster; the camera's footprint)."""
+        ...
+
+    def flow_at_mps(self, point_en_m: ArrayLike, t_s: float) -> tuple[float, float]:
+        """Surface flow velocity [m/s; east, north] at one point (the camera draws it as streaks)."""
+        ...
+
+
 @dataclass(frozen=True)
 class ExpandingCircle:
     """The paper's flood (§IV): a circle whose radius grows linearly, 12 m -> 16 m over 60 s in ``circle``.

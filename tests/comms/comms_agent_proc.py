@@ -31,6 +31,7 @@ def main() -> int:
     p.add_argument("--rate-hz", type=float, default=20.0)
     p.add_argument("--duration-s", type=float, default=30.0)
     p.add_argument("--via-radio", action="store_true")
+    p.add_argument("--client", action="store_true", help="join as a client of the router at --hub (not a peer)")
     a = p.parse_args()
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
@@ -39,7 +40,8 @@ def main() -> int:
     keys = MissionKeys(a.mission)
     table = NeighbourTable(own_id=a.id, period_s=1.0 / a.rate_hz)
     sent = 0
-    with ZenohSession(ZenohConfig.member(a.hub)) as session:
+    config = ZenohConfig.client(a.hub) if a.client else ZenohConfig.member(a.hub)
+    with ZenohSession(config) as session:
         link = SwarmLink(session, keys, a.id, via_radio=a.via_radio)
         print("READY", flush=True)
         t0 = time.monotonic()

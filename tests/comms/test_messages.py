@@ -20,6 +20,7 @@ from comms.messages import (
     GroundTruth,
     MissionCommand,
     NeighbourState,
+    NeighbourStateForControl,
     PeerEvent,
     RadioLinkStats,
     decode,
@@ -178,3 +179,34 @@ def test_flood_polygon_with_unknown_growth_rate_still_decodes() -> None:
         flood_polygon_from_enu([[np.nan, 0], [0, 12], [-12, 0]], GeodeticHome(), mission="m", t_s=1.0)
     with pytest.raises(ValueError):
         flood_polygon_from_enu([[1, 0], [0, 1], [-1, 0]], GeodeticHome(), mission="m", t_s=float("inf"))
+
+
+def test_control_part_of_a_state_reads_the_same_fields_from_the_same_bytes() -> None:
+    """An agent decodes only what its control laws read; every field it keeps equals the whole message's."""
+    state = _state(edge_points_en_m=[(float(k), -float(k)) for k in range(24)], yaw_ned_rad=0.25,
+                   velocity_up_mps=-0.5)
+    payload = encode(state)
+    part = decode(NeighbourStateForControl, payload, DecodeStats())
+    assert part is not None
+    for name in NeighbourStateForControl.__struct_fields__:
+        assert getattr(part, name) == getattr(state, name), name
+    assert part.has(FLAG_AIRBORNE) and not hasattr(part, "edge_points_en_m")
+
+
+@pytest.mark.parametrize("bad", [{"position_en_m": (float("nan"), 0.0)}, {"t_s": float("inf")}, {"seq": -1},
+                                 {"extras": {"gap_m": float("nan")}}, {"role": "tractor"}])
+def test_control_part_rejects_what_the_whole_message_rejects_in_its_fields(bad: dict[str, object]) -> None:
+    raw = msgspec.structs.asdict(_state())
+    raw.update(bad, schema="fw/state/1")
+    payload = msgspec.msgpack.encode(raw)
+    stats = DecodeStats()
+    assert decode(NeighbourState, payload, stats) is None
+    assert decode(NeighbourStateForControl, payload, stats) is None
+    assert stats.dropped_total() == 2
+
+
+def test_control_part_refuses_other_schema_versions() -> None:
+    raw = msgspec.structs.asdict(_state())
+    raw["schema"] = "fw/state/2"
+    _, reason = decode_with_reason(NeighbourStateForControl, msgspec.msgpack.encode(raw), DecodeStats())
+    assert reason == "wrong_version"

@@ -270,3 +270,32 @@ def test_sessions_run_on_the_lean_zenoh_runtime_without_shared_memory(free_endpo
 def test_zenoh_runtime_from_the_environment_wins(free_endpoint: Callable[[], str]) -> None:
     names = _zenoh_threads_after_exchange(free_endpoint(), env_runtime="()")
     assert "rx-0" in names and "rx-1" in names, names
+
+
+_OUTSIDER = """
+import json, time, zenoh
+c = zenoh.Config()
+c.insert_json5("mode", '"client"')
+c.insert_json5("connect/endpoints", json.dumps(["{hub}"]))
+with zenoh.open(c) as s:
+    p = s.declare_publisher("src/with")
+    time.sleep(0.5)
+    for n in range(20):
+        p.put(b"x", source_info=zenoh.SourceInfo(p.id, n))
+        s.put("src/plain", b"y")
+        time.sleep(0.05)
+    print(s.zid(), flush=True)
+"""
+
+
+def test_the_publishers_zenoh_id_and_address_when_the_sample_carries_its_source(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        buf = hub.subscribe("src/*", with_source=True)
+        out = subprocess.run([sys.executable, "-c", _OUTSIDER.format(hub=hub_ep)], capture_output=True, text=True,
+                             timeout=60)
+        assert out.returncode == 0, out.stderr[-2000:]
+        outsider_zid = out.stdout.split()[-1]
+        sources = {item.key: item.source for item in buf.drain()}
+        assert sources == {"src/with": outsider_zid, "src/plain": ""}, sources
+        assert hub.address_of("0" * 32) == ""

@@ -333,6 +333,7 @@ def _listen_to_public_keys(hub: str, mission: str, proc: subprocess.Popen[str]) 
     """Join the running mission like an outside Zenoh client and collect its public polygon and state keys."""
     from comms.keys import MissionKeys
     from comms.messages import FloodPolygon, NeighbourState, decode
+    from comms.signing import unsigned_body
     from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 
     keys = MissionKeys(mission)
@@ -357,7 +358,7 @@ def _listen_to_public_keys(hub: str, mission: str, proc: subprocess.Popen[str]) 
                 if polygon is not None:
                     polygons.append(polygon)
             for item in state_buf.drain():
-                state = decode(NeighbourState, item.payload)
+                state = decode(NeighbourState, unsigned_body(item.payload))
                 if state is not None:
                     states[state.sender_id] = state
     return polygons, states

@@ -22,7 +22,7 @@ def test_message_names_the_closest_key_or_lists_the_known_ones() -> None:
 
 @pytest.mark.parametrize(("override", "message"), [
     ("radio.los=0.3", "radio.los: unknown key (did you mean radio.loss?)"),
-    ("radio.nonsense=3", "radio.nonsense: unknown key (known: jitter_s, latency_s, loss, range_m)"),
+    ("radio.nonsense=3", "radio.nonsense: unknown key (known: bandwidth_bytes_per_s, burst_gap_s, burst_loss, burst_mean_s, edge_loss, edge_loss_exponent, gcs_lossless, jitter_s, latency_s, loss, range_m)"),
     ("duration=5", "duration: unknown key (did you mean duration_s?)"),
     ("home.lat=5", "home.lat: unknown key (did you mean home.lat_deg?)"),
     ("fleet.leader=2", "fleet.leader: unknown key (did you mean fleet.leaders?)"),

@@ -61,6 +61,9 @@ def test_scenario_convenience_matches_the_plan() -> None:
     (["--id", "1", "--scenario", "ellipse"], '"auto" pads need the flood model: use a plan file'),
     (["--id", "1", "--set", "radio.los=0.3"], "radio.los: unknown key (did you mean radio.loss?)"),
     (["--id", "99"], "--id 99: scenario circle has vehicles 1..13"),
+    (["--plan", "{plan}"], "mission.key: cannot read it"),
+    (["--id", "1", "--scenario", "circle"], "--key-file: required without --plan"),
+    (["--plan", "{plan}", "--key-file", "{tmp}/broken.json"], "broken.json: readable by others"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv: list[str], message: str, plan_file: Path, tmp_path: Path,
                                           capsys: pytest.CaptureFixture[str]) -> None:

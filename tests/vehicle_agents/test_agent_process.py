@@ -17,7 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from comms.key_file import create_key_file
 from comms.keys import MissionKeys
+from comms.signing import GROUND_STATION, Signer, unsigned_body
+from comms.swarm_link import wall_clock_us
 from comms.messages import FLAG_OFFBOARD, MissionCommand, NeighbourState, decode, encode
 from comms.zenoh_session import ZenohConfig, ZenohSession
 from gcs.scenario import load_scenario
@@ -53,7 +56,7 @@ def _wait_state(states, vehicle_id: int, predicate, timeout_s: float, pump=None)
         if pump is not None:
             pump()
         for item in states.drain():
-            msg = decode(NeighbourState, item.payload)
+            msg = decode(NeighbourState, unsigned_body(item.payload))
             if msg is not None and msg.sender_id == vehicle_id:
                 latest = msg
         if latest is not None and predicate(latest):
@@ -72,6 +75,7 @@ def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(
     camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
     configs = vehicle_configs(fleet_plan(scenario, mission))[:1]
     plan = write_plan(tmp_path / "agent_1.json", agent_plan(scenario, 1, "improved", mission))
+    ground_station = Signer(create_key_file(tmp_path / "mission.key"), GROUND_STATION)
     with Fleet(configs, base_port=base, gcs_port=gcs, speed=SPEED) as fleet, \
             ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
         states = hub.subscribe(keys.state(1))
@@ -83,8 +87,8 @@ def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(
             hovering = _wait_state(states, 1, lambda m: m.has(FLAG_OFFBOARD) and m.altitude_m > 8.0, 60.0, pump)
             assert hovering is not None, (tmp_path / "agent_1.log").read_text()[-2000:]
             start_en = np.array(hovering.position_en_m)
-            hub.put(keys.command, encode(MissionCommand(seq=1, t_s=fleet.clock.now_s(), command="start",
-                                                        flood_clock_start_t_s=fleet.clock.now_s())))
+            start = MissionCommand(seq=1, t_s=fleet.clock.now_s(), command="start", flood_clock_start_t_s=fleet.clock.now_s())
+            hub.put(keys.command, ground_station.sign(encode(start), wall_clock_us()))
             moved = _wait_state(states, 1, lambda m: np.hypot(*(np.array(m.position_en_m) - start_en)) > 2.0, 30.0, pump)
             assert moved is not None, "the control law never moved the vehicle"
             assert moved.edge_points_en_m, "a boundary drone over the edge reports the edge points it sees"

@@ -38,7 +38,7 @@ def encircle_velocity(group: str | None, tangent_en: NDArray[np.float64], speed_
 
 def is_leading(entry: RosterEntry, neighbours: Sequence[NeighbourInfo], params: ControlParams) -> bool:
     """No heard drone of my group has a lower rank (roster ranks: 0 leaves first)."""
-    ranks = {e.vehicle_id: e.rank for e in params.roster}
+    ranks = params.rank_of
     for n in neighbours:
         if n.role == ROLE_BOUNDARY and n.group == entry.group and ranks.get(n.vehicle_id, 1 << 30) < entry.rank:
             return False
@@ -59,7 +59,7 @@ def meets_other_leader(
     others = [n for n in neighbours if n.role == ROLE_BOUNDARY and n.group is not None and n.group != entry.group]
     if not others:
         return False
-    ranks = {e.vehicle_id: e.rank for e in params.roster}
+    ranks = params.rank_of
     lowest = min(ranks.get(n.vehicle_id, 1 << 30) for n in others)
     for n in others:
         if not (n.leading or ranks.get(n.vehicle_id, 1 << 30) == lowest):

@@ -71,7 +71,7 @@ def predicted_positions_en_m(neighbours: Sequence[NeighbourInfo], horizon_cap_s:
         return np.zeros((0, 2))
     positions = np.array([n.position_en_m for n in neighbours], dtype=float).reshape(-1, 2)
     velocities = np.array([n.velocity_en_mps for n in neighbours], dtype=float).reshape(-1, 2)
-    ages = np.clip([n.age_s for n in neighbours], 0.0, horizon_cap_s)
+    ages = np.array([min(max(n.age_s, 0.0), horizon_cap_s) for n in neighbours])
     return positions + velocities * ages[:, None]
 
 
@@ -111,13 +111,13 @@ def safety_filter(
         return v
     diff = others - np.asarray(own_en_m, dtype=float)[None, :]
     dist = np.hypot(diff[:, 0], diff[:, 1])
-    close = [int(k) for k in np.argsort(-dist) if 1e-9 < dist[k] < radius_m]
-    if not close:
-        return v
     # The projections run on plain floats: each is a handful of multiplications on 2-vectors, where numpy's
     # per-call overhead would cost more than the arithmetic (every drone runs this at every control step).
-    east, north = diff[:, 0].tolist(), diff[:, 1].tolist()
     distance = dist.tolist()
+    close = [k for k in np.argsort(-dist).tolist() if 1e-9 < distance[k] < radius_m]
+    if not close:
+        return v
+    east, north = diff[:, 0].tolist(), diff[:, 1].tolist()
     heard_v = None if others_velocity_en_mps is None else np.asarray(others_velocity_en_mps, dtype=float).tolist()
     constraints = []
     for k in close:
@@ -138,21 +138,4 @@ def safety_filter(
                 vx -= (along - allowed) * ux
                 vy -= (along - allowed) * uy
     v[0], v[1] = vx, vy
-    return v
-    diff = others - np.asarray(own_en_m, dtype=float)[None, :]
-    dist = np.hypot(diff[:, 0], diff[:, 1])
-    close = [int(k) for k in np.argsort(-dist) if 1e-9 < dist[k] < radius_m]
-    for _ in range(_PASSES if len(close) > 1 else 1):
-        for k in close:
-            x = float(dist[k])
-            u = diff[k] / x
-            gap_m = x - min_distance_m
-            allowed = closing_rate_per_s * gap_m
-            if braking_mps2 > 0.0 and gap_m > 0.0:
-                allowed = min(allowed, stopping_speed_mps(gap_m, braking_mps2, reaction_s))
-            if others_velocity_en_mps is not None:
-                allowed += float(np.dot(others_velocity_en_mps[k], u))
-            along = float(np.dot(v, u))
-            if along > allowed:
-                v -= (along - allowed) * u
     return v

@@ -13,14 +13,14 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from comms.messages import FLAG_LEAVING, NeighbourState
+from comms.messages import FLAG_LEAVING, HeardState
 
 
 @dataclass(frozen=True)
 class Inbox:
     """What reached one drone since its previous step: decoded states, and liveliness changes (vehicle ids)."""
 
-    states: Sequence[NeighbourState] = ()
+    states: Sequence[HeardState] = ()
     departed_ids: Sequence[int] = ()
     returned_ids: Sequence[int] = ()
 
@@ -29,13 +29,13 @@ EMPTY_INBOX = Inbox()
 
 
 def heard_after(
-    heard: Mapping[int, NeighbourState],
+    heard: Mapping[int, HeardState],
     departed: frozenset[int],
     inbox: Inbox,
     own_id: int,
     t_s: float,
     timeout_s: float,
-) -> tuple[Mapping[int, NeighbourState], frozenset[int]]:
+) -> tuple[Mapping[int, HeardState], frozenset[int]]:
     """The table after ``inbox`` at mission time ``t_s`` (a new mapping; the one given is left as it was)."""
     if inbox.departed_ids or inbox.returned_ids:
         departed = (departed - frozenset(inbox.returned_ids)) | frozenset(inbox.departed_ids)

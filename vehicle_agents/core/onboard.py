@@ -15,15 +15,19 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
+import msgspec
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.messages import NeighbourState
+from comms.messages import HeardState, NeighbourState
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
 from vehicle_agents.control.types import NeighbourInfo
+from vehicle_agents.core.filtered_neighbours import filter_noise, filtered_infos, table_hold_s, track_step
+from vehicle_agents.core.neighbour_filter import EMPTY_BANK, TrackBank
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
+from vehicle_agents.core.relay import relay_copies, unpacked
 from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
 from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
@@ -89,9 +93,11 @@ class OnboardState:
 
     phases: tuple[Phase, ...]
     memories: tuple[ControlMemory, ...]
-    heard: tuple[Mapping[int, NeighbourState], ...]
+    heard: tuple[Mapping[int, HeardState], ...]
     departed: tuple[frozenset[int], ...]
     seq: tuple[int, ...]
+    tracks: tuple[TrackBank, ...] = ()
+    """Each drone's neighbour filter (empty while the filter is off)."""
 
 
 @dataclass(frozen=True)
@@ -115,6 +121,7 @@ def initial_state(plan: OnboardPlan, phase: Phase = Phase.CONNECTING) -> Onboard
         heard=({},) * n,
         departed=(frozenset(),) * n,
         seq=(0,) * n,
+        tracks=(EMPTY_BANK,) * n,
     )
 
 
@@ -128,11 +135,15 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     heard = list(state.heard)
     departed = list(state.departed)
     seq = list(state.seq)
+    tracks = list(state.tracks) if state.tracks else [EMPTY_BANK] * n
+    noise = filter_noise(params) if params.neighbour_filter else None
+    timeout_s = table_hold_s(params) if noise is not None else params.neighbour_timeout_s
     actions: list[Action] = []
     setpoints = np.zeros((n, 3))
     yaws = np.zeros(n)
     messages: list[NeighbourState | None] = []
     converted: dict[int, NeighbourInfo] = {}
+    filtered_cache: dict[int, NeighbourInfo] = {}
     for i in range(n):
         tel = inputs.telemetry.vehicle(i)
         order = inputs.orders[i]
@@ -143,12 +154,18 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         actions.append(action)
         vid = plan.vehicle_ids[i]
         inbox = inputs.inbox[i] if inputs.inbox else EMPTY_INBOX
-        heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, params.neighbour_timeout_s)
+        if params.relay_max_hops > 0 and inbox.states:
+            inbox = replace(inbox, states=unpacked(inbox.states))
+        heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, timeout_s)
+        if noise is not None:
+            tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         if action is Action.FLY:
             infos = []
             table = heard[i]
-            for sender in sorted(table):
+            if noise is not None:
+                tracks[i], infos = filtered_infos(tracks[i], table, t_s, noise, filtered_cache)
+            for sender in sorted(table) if noise is None else ():
                 msg = table[sender]
                 info = converted.get(id(msg))
                 if info is None:
@@ -163,12 +180,17 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             messages.append(None)
             continue
         seq[i] += 1
-        messages.append(state_message(
+        message = state_message(
             seq=seq[i], t_s=t_s, broadcast=own_broadcast(memories[i], own, t_s), own=own, tel=tel,
             perception=inputs.perception[i], edge_points_en_m=memories[i].edge_points_en_m,
             leaving=action is Action.EXIT, low_battery=tel.battery_fraction < plan.limits.low_battery_fraction,
-        ))
+        )
+        if params.relay_max_hops > 0 and seq[i] % max(1, params.relay_every) == 0:
+            copies = relay_copies(heard[i], vid, t_s, seq[i], params.relay_max_hops, params.relay_max_age_s,
+                                  params.relay_budget_bytes)
+            message = msgspec.structs.replace(message, relayed=copies) if copies else message
+        messages.append(message)
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
-                        departed=tuple(departed), seq=tuple(seq))
+                        departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks))
     return outputs, new_state

@@ -224,18 +224,23 @@ def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshol
     (linear interpolation, clamped to the segment's middle half so a noisy pixel cannot throw it far).
     """
     m8 = mask.view(np.uint8)
+    width = chroma.shape[1]
+    flat = chroma.reshape(-1)
     parts = []
-    for dx, dy, changes in ((1, 0, cv2.bitwise_xor(m8[:, :-1], m8[:, 1:])),
-                            (0, 1, cv2.bitwise_xor(m8[:-1, :], m8[1:, :]))):
+    # (axis the step runs along, step in the flattened image, where the mask changes from one pixel to the next)
+    for axis, step, changes in ((0, 1, cv2.bitwise_xor(m8[:, :-1], m8[:, 1:])),
+                                (1, width, cv2.bitwise_xor(m8[:-1, :], m8[1:, :]))):
         found = cv2.findNonZero(changes)
         if found is None:
             continue
         xy = found.reshape(-1, 2)
-        a = chroma[xy[:, 1], xy[:, 0]].astype(np.float32)
-        b = chroma[xy[:, 1] + dy, xy[:, 0] + dx].astype(np.float32)
-        frac = np.clip(np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a), 0.25, 0.75)
+        index = xy[:, 1] * width + xy[:, 0]
+        a = flat[index].astype(np.float32)
+        b = flat[index + step].astype(np.float32)
+        frac = np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a)
+        np.maximum(frac, 0.25, out=frac)
+        np.minimum(frac, 0.75, out=frac)
         point = xy + 0.5
-        point[:, 0] += dx * frac
-        point[:, 1] += dy * frac
+        point[:, axis] += frac
         parts.append(point)
     return np.concatenate(parts) if parts else np.zeros((0, 2))

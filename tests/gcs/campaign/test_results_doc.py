@@ -34,7 +34,21 @@ def test_render_targets_distributions_and_commands() -> None:
     assert "| `circle` | 40 | 41 | 1 | 20 |" in text and "| `large` | 10 | 0 | 0 | — |" in text
     assert "| improved | full | 2 of 20 |" in text and "| paper | normal (default) | 20 |" in text
     assert NOTHING_MOVED in text and "OverflowError: x" in text
-    assert len(CAMPAIGNS) == 7
+    assert len(CAMPAIGNS) == 10
+
+
+def test_the_hydro_section_scores_the_caged_component_against_its_targets() -> None:
+    breach = [_row("improved", 1, scenario="breach", polygon_iou_final=0.983, min_pairwise_distance_m=1.32,
+                   caged_area_fraction_final=1.0, edge_speed_p50_mps=0.075),
+              _row("paper", 1, scenario="breach", polygon_iou_final=0.857, min_pairwise_distance_m=0.08)]
+    river = [_row("improved", 1, scenario="river", polygon_iou_final=0.93, min_pairwise_distance_m=1.2)]
+    text = render({"breach": breach, "river": river}, "2026-01-01 00:00 UTC")
+    assert "## Hydrodynamic floods (ANUGA)" in text
+    assert "| `breach` | improved | 1 | 0.983 | 1.32 |" in text and "| 1.00 | 0.075 |" in text
+    lines = {line.split(" | ")[0] + line.split(" | ")[1]: line for line in text.splitlines() if line.startswith("| `")}
+    assert lines["| `breach`improved"].endswith("yes (1/1 runs) |")
+    assert lines["| `river`improved"].endswith("no (0/1 runs) |")  # IoU below 0.95
+    assert lines["| `pluvial`improved"].endswith("(not a target) |")
 
 
 def test_main_reads_rows_from_the_campaign_folders(tmp_path: Path) -> None:

@@ -25,6 +25,7 @@ REPO = Path(__file__).resolve().parents[3]
         (["circle", "--engine", "lockstep", "--set", "flood.radius_start_m=-3"], "flood.radius_start_m"),
         (["circle", "--backend", "px4"], "--backend"),
         (["circle", "--engine", "lockstep", "--backend", "gazebo"], "--backend"),
+        (["circle", "--key-file", "/nonexistent/mission.key"], "--key-file: key file /nonexistent/mission.key"),
     ],
 )
 def test_bad_input_prints_one_line_and_exits_2(argv: list[str], needle: str, capsys: pytest.CaptureFixture[str]) -> None:

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import stat
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
+from comms.key_file import create_key_file, read_key_file
 from gcs.plan.__main__ import main
 from gcs.plan.files import plan_paths, write_plans
 from gcs.scenario import load_scenario
@@ -32,8 +34,17 @@ def test_writes_every_plan_of_an_auto_pad_scenario(tmp_path: Path, capsys: pytes
 def test_write_plans_names_the_files(tmp_path: Path) -> None:
     paths = write_plans(load_scenario("circle"), "improved", tmp_path / "plan", mission="run7")
     assert sorted(p.name for p in (tmp_path / "plan").iterdir()) == sorted(
-        ["fleet.json", "cameras.json", *(f"agent_{i}.json" for i in range(1, 14))])
+        ["fleet.json", "cameras.json", "mission.key", *(f"agent_{i}.json" for i in range(1, 14))])
     assert read_plan(paths.agents[4], AgentPlan).mission == "run7"
+    assert stat.S_IMODE(paths.key.stat().st_mode) == 0o600
+
+
+def test_a_given_key_travels_with_the_plans_and_each_mission_gets_its_own_otherwise(tmp_path: Path) -> None:
+    given = create_key_file(tmp_path / "ops.key")
+    paths = write_plans(load_scenario("circle"), "improved", tmp_path / "a", key_file=tmp_path / "ops.key")
+    assert read_key_file(paths.key) == given
+    other = write_plans(load_scenario("circle"), "improved", tmp_path / "b")
+    assert read_key_file(other.key) != given
 
 
 @pytest.mark.parametrize(("argv", "message"), [

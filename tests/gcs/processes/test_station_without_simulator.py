@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 
+from comms.key_file import create_key_file
 from gcs.processes.ground_station import EXIT_OK, GroundStation
 from gcs.processes.launch import ProcessOptions
 from gcs.scenario import load_scenario
@@ -60,9 +61,11 @@ def test_station_flies_a_mission_with_mock_px4_vehicles_and_no_simulator(
     base, gcs, endpoint = udp_ports(2), udp_ports(1), zenoh_endpoint()
     out = tmp_path / "run"
     out.mkdir()
+    key_file = tmp_path / "mission.key"
+    create_key_file(key_file)  # handed to the drones and the station beforehand
     options = ProcessOptions(scenario_arg="circle", overrides=TWO_BOUNDARY_DRONES, duration_s=3.0, out_dir=out,
                              mission="nosim", mavlink_base_port=base, gcs_port=gcs, zenoh_endpoint=endpoint,
-                             live=False, startup_timeout_s=60.0, takeoff_timeout_s=90.0)
+                             live=False, startup_timeout_s=60.0, takeoff_timeout_s=90.0, key_file=key_file)
     station = GroundStation(scenario, options, out, simulated=False)
     result: dict[str, int] = {}
     runner = threading.Thread(target=lambda: result.setdefault("code", asyncio.run(station.run())))
@@ -76,7 +79,8 @@ def test_station_flies_a_mission_with_mock_px4_vehicles_and_no_simulator(
         for vid in (1, 2):
             overrides = [arg for override in TWO_BOUNDARY_DRONES for arg in ("--set", override)]
             processes(["vehicle_agents", "--scenario", "circle", *overrides, "--id", str(vid), "--mission", "nosim",
-                       "--mavlink-base-port", str(base), "--neighbours", "direct", "--connect", endpoint],
+                       "--mavlink-base-port", str(base), "--neighbours", "direct", "--connect", endpoint,
+                       "--key-file", str(key_file)],
                       tmp_path / f"agent_{vid}.log")
         runner.join(timeout=240.0)
     finally:

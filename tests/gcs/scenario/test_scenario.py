@@ -30,11 +30,16 @@ def test_circle_is_the_papers_case_study() -> None:
     assert sorted(ring.index(f.ref_id) for f in followers) == [1, 3, 5, 7]  # i = n j with n = 2
 
 
+HYDRO_SCENARIOS = ("breach", "river", "pluvial")
+
+
 def test_every_bundled_scenario_loads() -> None:
     names = scenario_names()
     for required in ("circle", "ellipse", "nonconvex", "drift", "terrain", "large"):
         assert required in names
     for name in names:
+        if name in HYDRO_SCENARIOS:
+            continue  # each computes a shallow-water run the first time: tests/mock_autopilot/world/test_hydro.py
         s = load_scenario(name)
         ids = [v.vehicle_id for v in s.vehicles]
         assert ids == list(range(1, len(ids) + 1))

@@ -106,3 +106,34 @@ def test_every_flood_model_renders() -> None:
         edge = flood.boundary_en_m(30.0)[0]
         frame = render_frame(flood, 30.0, (edge[0], edge[1], 10.0), 0.0, CameraModel(), seed=1)
         assert 0.05 < frame.water_mask.mean() < 0.95, model
+
+
+def test_water_over_terrain_is_shaded_by_depth_and_seen_from_the_height_above_ground() -> None:
+    """The hydro flood: the pixel footprint follows the ground below the drone (what the rangefinder reads), and
+    shallow water at the shore is turbid (closer to grey) while deeper water keeps the murky blue."""
+    from mock_autopilot.camera.appearance import water_shading
+    from mock_autopilot.camera.truth import ACCURACY_FLOODS
+    from mock_autopilot.world.ground import height_above_ground_m
+
+    flood = flood_model_from_config(ACCURACY_FLOODS["hydro"], seed=3)
+    camera = CameraModel()
+    ring = flood.boundary_en_m(30.0)
+    heights = [height_above_ground_m(flood, (float(p[0]), float(p[1]), 10.0)) for p in ring[::7]]
+    assert max(heights) - min(heights) > 0.05  # the relief is really there under the shore
+    p = ring[0]
+    frame = render_frame(flood, 30.0, (float(p[0]), float(p[1]), 10.0), 0.0, camera, 1)
+    expected = camera.ground_sample_m(height_above_ground_m(flood, (float(p[0]), float(p[1]), 10.0)))
+    assert frame.ground_sample_m == pytest.approx(expected)
+    turbid, brightness = water_shading(np.array([0.02, 0.1, 0.5, 2.0], np.float32))
+    assert np.all(np.diff(turbid) <= 0) and turbid[0] > 0.9 and turbid[-1] == 0.0
+    assert np.all(np.diff(brightness) <= 0) and brightness[0] == 1.0 and brightness[-1] < 0.8
+
+
+def test_flow_streaks_run_along_the_current_and_vanish_on_still_water() -> None:
+    from mock_autopilot.camera.render import _streaks
+
+    points = ground_points_en_m(CameraModel(), (3.0, -2.0, 10.0), 0.0)
+    assert np.all(_streaks((0.0, 0.0), points, 1) == 1.0)
+    east = _streaks((0.6, 0.0), points, 1)  # current to the east: streaks vary across it (north), little along it
+    assert east.std() > 0.02
+    assert np.abs(np.diff(east, axis=1)).mean() < 0.5 * np.abs(np.diff(east, axis=0)).mean()  # image up = north

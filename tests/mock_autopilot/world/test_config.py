@@ -20,7 +20,12 @@ from mock_autopilot.world.terrain import TerrainFlood
 SCENARIOS = SCENARIO_DIR
 
 
-@pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.toml")), ids=lambda p: p.stem)
+HYDRO = ("breach", "river", "pluvial")
+"""Shipped hydro scenarios: each computes a shallow-water run the first time (tens of seconds), so they are built in
+tests/mock_autopilot/world/test_hydro.py's slow test."""
+
+
+@pytest.mark.parametrize("path", [p for p in sorted(SCENARIOS.glob("*.toml")) if p.stem not in HYDRO], ids=lambda p: p.stem)
 def test_every_shipped_scenario_flood_table_builds(path: Path) -> None:
     scenario = load_scenario(str(path))
     flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)

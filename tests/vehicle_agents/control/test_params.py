@@ -1,6 +1,12 @@
 import pytest
 
-from vehicle_agents.control.params import PAPER_PIXEL_GAINS, ControlParams, ControlParamsError, params_for_mode
+from vehicle_agents.control.params import (
+    PAPER_PIXEL_GAINS,
+    ControlParams,
+    ControlParamsError,
+    RosterEntry,
+    params_for_mode,
+)
 
 
 def test_modes_and_presets() -> None:
@@ -30,3 +36,16 @@ def test_bad_values_name_the_field(table: dict, field: str) -> None:
 def test_unknown_mode() -> None:
     with pytest.raises(ControlParamsError, match="mode"):
         ControlParams(mode="magic")
+
+
+def test_roster_lookups_are_computed_once_and_stay_out_of_equality() -> None:
+    roster = (RosterEntry(vehicle_id=1, role="boundary", group="A", rank=0),
+              RosterEntry(vehicle_id=2, role="boundary", group="A", rank=1),
+              RosterEntry(vehicle_id=3, role="boundary", group="B", rank=0),
+              RosterEntry(vehicle_id=4, role="follower", layer=1))
+    params = ControlParams(roster=roster)
+    assert params.ring_order() == (3, 2, 1)
+    assert params.ring_order() is params.ring_order()
+    assert params.rank_of == {1: 0, 2: 1, 3: 0, 4: 0}
+    assert [e.vehicle_id for e in params.followers()] == [4]
+    assert params == ControlParams(roster=roster)
