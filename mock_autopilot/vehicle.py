@@ -310,7 +310,7 @@ class Vehicle(VehicleState):
                 self.ground_since_s = t
         else:
             self.ground_since_s = None
-        if self.armed and float(self.position_ned_m[2]) < -0.5:
+        if self.armed and float(self.body.position_ned_m[2]) < -0.5:  # the truth: altitude noise is no take-off
             self.took_off = True
 
 

@@ -68,3 +68,17 @@ def test_no_limits_by_default() -> None:
     _fly(backend, 10.0)
     assert backend.state().flight_mode[0] == "OFFBOARD"
     assert not any("wind" in t.lower() for t in backend.texts(0))
+
+
+def test_altitude_noise_on_the_ground_is_no_take_off() -> None:
+    """An armed vehicle that never left its pad is disarmed by the preflight timer, not "by landing", however its
+    barometer wanders (the take-off and the ground contact are the body's)."""
+    from mock_autopilot.commander import arm
+
+    vehicle = Vehicle(VehicleConfig(0, weather=Weather(WindSpec(), SensorSpec(altitude_sigma_m=0.4), seed=2)))
+    arm(vehicle, 0.0)
+    texts = []
+    for k in range(1, 300):
+        texts += [o.message.text for o in vehicle.tick(k * 0.05) if o.message.get_type() == "STATUSTEXT"]
+    assert not vehicle.took_off and not vehicle.armed
+    assert any("preflight" in str(t) for t in texts) and not any("landing" in str(t) for t in texts)
