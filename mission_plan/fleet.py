@@ -21,7 +21,7 @@ from mission_plan.roster import RosterEntry
 from mission_plan.table_fields import ScenarioError, integer, number, pair, reject_unknown
 
 FLEET_KEYS = frozenset({"boundary_per_group", "leaders", "follower_layers", "pad_spacing_m", "launch_en_m",
-                        "flood_center_en_m", "gps", "launch_bearing_deg", "launch_clearance_m"})
+                        "flood_center_en_m", "gps", "launch_bearing_deg", "launch_clearance_m", "pad_jitter_m", "start_jitter_s"})
 GPS_CHOICES = (ROLE_LEADER.value, "all", "none")
 AUTO_LAUNCH = "auto"
 """``launch_en_m = "auto"``: the launch site just outside the flood's initial edge (resolved by the ground station)."""
