@@ -21,6 +21,7 @@ from gcs.campaign.grid import Mode, expand, parse_grid_axis, parse_seeds
 from gcs.campaign.results_hydro import hydro_section
 from gcs.campaign.results_radio import BURST_MEANS_S, LOSS_CAMPAIGN, LOSS_GRID, RADIO_FIXED, burst_campaign, burst_fixed
 from gcs.campaign.results_radio import radio_section
+from gcs.campaign.results_weather import PRESET_MODES, weather_campaign, weather_fixed, weather_section
 from gcs.campaign.store import read_rows
 from gcs.campaign.summary import Stats, distribution, failed_rows, finite_values, ok_rows
 
@@ -99,6 +100,7 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("pluvial", "pluvial", "1"),
     Campaign(LOSS_CAMPAIGN, "circle", "1-20", (LOSS_GRID,), (Mode.IMPROVED,), RADIO_FIXED),
     *(Campaign(burst_campaign(b), "circle", "1-20", (), (Mode.IMPROVED,), burst_fixed(b)) for b in BURST_MEANS_S),
+    *(Campaign(weather_campaign(p), "circle", "1-20", (), modes, weather_fixed(p)) for p, modes in PRESET_MODES.items()),
 )
 
 PDOT_KEY = "grid:control.pdot_reading"
@@ -278,6 +280,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
     ]
     out += hydro_section(ok)
     out += radio_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == LOSS_CAMPAIGN))))
+    out += weather_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == weather_campaign("moderate")))))
     failed = [(name, r) for name, rows in rows_by_campaign.items() for r in failed_rows(rows)]
     if failed:
         out += ["## Failed runs", "", "| campaign | mode | seed | grid cell | error |", "|---|---|---|---|---|"]
