@@ -108,8 +108,9 @@ def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
     """
     lay = _layout(fleet)
     per_group, spacing = lay.per_group, lay.spacing_m
-    vehicles = [VehicleSpec(1 + g * per_group + rank, ROLE_BOUNDARY, lay.pad(0, sign * spacing * (per_group - rank - 0.5)),
-                            lay.gps == "all", group=group, rank=rank)
+    vehicles = [VehicleSpec(1 + g * per_group + rank, ROLE_BOUNDARY,
+                            lay.pad(0, sign * spacing * (per_group - rank - 0.5)), lay.gps == "all", group=group,
+                            rank=rank)
                 for g, (group, sign) in enumerate((("A", 1.0), ("B", -1.0))) for rank in range(per_group)]
     ring = [*sorted((v for v in vehicles if v.group == "B"), key=lambda v: v.rank),
             *sorted((v for v in vehicles if v.group == "A"), key=lambda v: -v.rank)]
@@ -121,13 +122,15 @@ def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
         key=lambda slot: (slot[0], abs(slot[1]), slot[1]),
     )[:inner_count])
     for _ in range(lay.leaders):
-        vehicles.append(VehicleSpec(len(vehicles) + 1, ROLE_LEADER, lay.pad(*next(slots)), lay.gps in (ROLE_LEADER, "all")))
+        vehicles.append(VehicleSpec(len(vehicles) + 1, ROLE_LEADER, lay.pad(*next(slots)),
+                                    lay.gps in (ROLE_LEADER, "all")))
     outer_ids = [v.vehicle_id for v in ring]
     for layer, count in enumerate(lay.layers, start=1):
         n = len(outer_ids) / count
         ids = []
         for j in range(count):
-            ref = outer_ids[min(len(outer_ids) - 1, int(round(n * (j + 1))) - 1)] if layer == 1 else outer_ids[int(j * n)]
+            ref = (outer_ids[min(len(outer_ids) - 1, int(round(n * (j + 1))) - 1)] if layer == 1
+                   else outer_ids[int(j * n)])
             ids.append(len(vehicles) + 1)
             vehicles.append(VehicleSpec(ids[-1], ROLE_FOLLOWER, lay.pad(*next(slots)), lay.gps == "all",
                                         layer=layer, ref_id=ref))
