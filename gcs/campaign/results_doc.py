@@ -185,10 +185,8 @@ def distribution_table(groups: Sequence[tuple[Sequence[str], Sequence[Row], int]
     return lines
 
 
-def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
-    """The whole RESULTS.md from the campaigns' rows (pure)."""
-    ok = {name: ok_rows(rows) for name, rows in rows_by_campaign.items()}
-    circle = ok.get("circle", [])
+def _preamble(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> list[str]:
+    """Where the numbers come from, the modes, how to read a cell, and the campaigns with their commands."""
     versions = sorted({str(r.get("code_version")) for rows in rows_by_campaign.values() for r in rows})
     out = [
         "# Results",
@@ -232,8 +230,14 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         wall = distribution(r.get("wall_s") for r in rows)
         out.append(f"| `{campaign.name}` | {campaign.planned_runs()} | {len(rows)} | {len(failed_rows(rows))} | "
                    f"{fmt_stats(wall, '{:.0f}')} |")
+    return out
+
+
+def _circle_and_scenarios(ok: Mapping[str, Sequence[Row]]) -> list[str]:
+    """The targets on `circle` and every bundled scenario in both modes."""
+    circle = ok.get("circle", [])
     seeds = next((c.seeds for c in CAMPAIGNS if c.name == "circle"), "")
-    out += [
+    out = [
         "",
         f"## Targets on `circle`, seeds {seeds}",
         "",
@@ -258,7 +262,13 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         for mode in (Mode.PAPER, Mode.IMPROVED):
             groups.append(([f"`{campaign.scenario}`", vehicles, mode.value, campaign.seeds], _mode_rows(rows, mode),
                            planned))
-    out += [*distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
+    return [*out, *distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
+
+
+def _pdot_section(ok: Mapping[str, Sequence[Row]]) -> list[str]:
+    """Eq 5's ṗ feed-forward read three ways on `circle`."""
+    circle = ok.get("circle", [])
+    seeds = next((c.seeds for c in CAMPAIGNS if c.name == "circle"), "")
     pdot_rows = ok.get("circle-pdot", [])
     pdot_groups = []
     pdot_seeds = len(parse_seeds(next((c.seeds for c in CAMPAIGNS if c.name == "circle-pdot"), "1")))
@@ -268,7 +278,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         for reading in ("full", "none"):
             pdot_groups.append(([mode.value, reading],
                                 [r for r in _mode_rows(pdot_rows, mode) if r.get(PDOT_KEY) == reading], pdot_seeds))
-    out += [
+    return [
         "## ṗ feed-forward readings of eq 5 on `circle` (SPEC §2)",
         "",
         "`normal`: only the edge-normal part of ṗ (both modes' default; the rows of the `circle` campaign); `full`: "
@@ -278,6 +288,12 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         *distribution_table(pdot_groups, ["mode", "ṗ reading"]),
         "",
     ]
+
+
+def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
+    """The whole RESULTS.md from the campaigns' rows (pure)."""
+    ok = {name: ok_rows(rows) for name, rows in rows_by_campaign.items()}
+    out = [*_preamble(rows_by_campaign, stamp), *_circle_and_scenarios(ok), *_pdot_section(ok)]
     out += hydro_section(ok)
     out += radio_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == LOSS_CAMPAIGN))))
     out += weather_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == weather_campaign("moderate")))))
