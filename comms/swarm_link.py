@@ -205,7 +205,8 @@ class SwarmLink:
                                                            item.source))
                     continue
                 payload = verdict.body
-            state = decode(self.state_type, payload, self.stats) if decoder is None else decoder.decode(payload, self.stats)
+            state = (decode(self.state_type, payload, self.stats) if decoder is None
+                     else decoder.decode(payload, self.stats))
             if state is None:
                 continue
             if key_id != state.sender_id:

@@ -20,7 +20,14 @@ from typing import Annotated, Any
 
 import msgspec
 
-from comms.messages import MAX_PAYLOAD_BYTES, MAX_RELAYED, DecodeStats, InvalidMessage, NeighbourState, decode_with_reason
+from comms.messages import (
+    MAX_PAYLOAD_BYTES,
+    MAX_RELAYED,
+    DecodeStats,
+    InvalidMessage,
+    NeighbourState,
+    decode_with_reason,
+)
 
 _KIND = NeighbourState.__name__
 _LIMIT_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
