@@ -81,7 +81,7 @@ def weather_section(ok_rows: Mapping[str, Sequence[Row]], planned_seeds: int) ->
     lines = [
         "## Weather: wind, sensor errors and hard imagery on `circle`",
         "",
-        "Presets as the weather issue fixes them (`--set weather=...`; mission_plan/weather_presets.py): `calm` has "
+        "Presets fixed before any tuning (`--set weather=...`; mission_plan/weather_presets.py): `calm` has "
         "no wind, noise or image degradation but jitters the launch pads (±0.2 m) and the agents' start times "
         "(±0.2 s) from the seed; `moderate` adds 5 m/s wind from 270° with light Dryden turbulence and gusts, GPS, "
         "altitude, heading and odometry errors, and exposure, white balance, noise, blur, JPEG, cloud shadows, glint "
