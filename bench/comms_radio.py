@@ -41,6 +41,7 @@ from comms.latest_buffer import LatestValueBuffer  # noqa: E402
 from comms.messages import GroundTruth, NeighbourState, RadioBundle, RadioLinkStats, decode, encode  # noqa: E402
 from comms.radio_model import RadioModel  # noqa: E402
 from comms.zenoh_session import ZenohConfig, ZenohSession  # noqa: E402
+from mission_plan.roles import Role  # noqa: E402
 
 RATE_HZ = 20.0
 
@@ -162,7 +163,7 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
                 for i in np.flatnonzero(next_send <= now).tolist():
                     t = time.monotonic()
                     session.put(state_keys[i], encode(NeighbourState(
-                        sender_id=i, role="boundary", seq=int(seq[i]), t_s=t, position_en_m=(float(positions[i, 0]), float(positions[i, 1])),
+                        sender_id=i, role=Role.BOUNDARY, seq=int(seq[i]), t_s=t, position_en_m=(float(positions[i, 0]), float(positions[i, 1])),
                         altitude_m=10.0, velocity_en_mps=(0.0, 0.0))))
                     seq[i] += 1
                     next_send[i] += period
