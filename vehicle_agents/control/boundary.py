@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mission_plan.control_params import ControlMode
+from mission_plan.roster import RosterEntry
 from vehicle_agents.control.beta import separation_velocity
 from vehicle_agents.control.edge_rate import feedforward, update_edge_rate
 from vehicle_agents.control.encircle import (
@@ -53,7 +54,6 @@ def boundary_step(
 ) -> tuple[NDArray[np.float64], ControlMemory]:
     """One step of eq 8 + Algorithm 1: (velocity [m/s; E, N, U], new memory)."""
     entry = memory.entry
-    improved = params.mode == ControlMode.IMPROVED
     q = np.asarray(own.position_en_m, dtype=float)
     dt = 0.0 if memory.last_t_s is None else max(t_s - memory.last_t_s, 0.0)
     boundary_nbrs = [n for n in neighbours if n.role == ROLE_BOUNDARY]
@@ -77,29 +77,8 @@ def boundary_step(
         encircled = meets_other_leader(entry, q, sign * tangent, boundary_nbrs, travelled, params)
     encircled_t_s = memory.encircled_t_s if memory.encircled else (t_s if encircled else None)
 
-    velocity = np.zeros(2)
-    if offset is not None:
-        ff = feedforward(edge_rate.rate_en_mps, normal, params.pdot_reading)
-        velocity += tracking_velocity(offset, params.k_boundary_per_s, ff)
-    elif improved and normal is not None and perception is not None and (perception.only_land or perception.only_water):
-        velocity += (_SEARCH_SPEED_MPS if perception.only_water else -_SEARCH_SPEED_MPS) * normal
-
-    if improved:
-        velocity += safety_velocity(q, _positions(yielded_to(ROLE_BOUNDARY, neighbours)), params.safety_radius_m,
-                                    params.safety_gain_mps)
-        heard = {n.vehicle_id: n for n in boundary_nbrs}
-        previous, following = ring_neighbours(entry.vehicle_id, params.ring_order(), heard, encircled)
-        ahead = following if sign > 0 else previous
-        if tangent is not None:
-            if previous is not None and following is not None and not (leading and not encircled):
-                velocity += spacing_velocity(q, tangent, previous, following, params.spacing_gain_per_s)
-            elif not encircled and (leading or ahead is None):
-                velocity += encircle_velocity(entry.group, tangent, params.encircle_speed_mps)
-    else:
-        velocity += separation_velocity(q, _positions(boundary_nbrs), params.separation_distance_m, params.separation_gain_mps)
-        if not encircled and tangent is not None:
-            velocity += encircle_velocity(entry.group, tangent, params.encircle_speed_mps)
-
+    velocity = _edge_velocity(offset, edge_rate.rate_en_mps, normal, perception, params)
+    _add_ring_velocity(velocity, q, entry, tangent, neighbours, leading, encircled, params)
     speed = float(np.hypot(velocity[0], velocity[1]))
     if speed > params.max_speed_mps:
         velocity *= params.max_speed_mps / speed
@@ -122,3 +101,44 @@ def boundary_step(
         edge_points_en_m=edge_points,
     )
     return np.array([velocity[0], velocity[1], climb_mps]), new_memory
+
+
+def _edge_velocity(offset: NDArray[np.float64] | None, edge_rate_en_mps: NDArray[np.float64] | None,
+                   normal: NDArray[np.float64] | None, perception: PerceptionResult | None,
+                   params: ControlParams) -> NDArray[np.float64]:
+    """Eq 5 towards the edge seen (with the ṗ feed-forward), or, in improved mode with only land or only water in
+    view, a search along the last edge normal while Algorithm 1 climbs."""
+    velocity = np.zeros(2)
+    if offset is not None:
+        ff = feedforward(edge_rate_en_mps, normal, params.pdot_reading)
+        velocity += tracking_velocity(offset, params.k_boundary_per_s, ff)
+    elif (params.mode == ControlMode.IMPROVED and normal is not None and perception is not None
+            and (perception.only_land or perception.only_water)):
+        velocity += (_SEARCH_SPEED_MPS if perception.only_water else -_SEARCH_SPEED_MPS) * normal
+    return velocity
+
+
+def _add_ring_velocity(velocity: NDArray[np.float64], q: NDArray[np.float64], entry: RosterEntry,
+                       tangent: NDArray[np.float64] | None, neighbours: Sequence[NeighbourInfo], leading: bool,
+                       encircled: bool, params: ControlParams) -> None:
+    """Add, in place, the motion along the edge: encircling (eq 6) until the leading drones meet, then the ring's
+    spacing; improved mode keeps equal gaps to the ring neighbours and a braking-aware barrier, the paper mode eq 7's
+    β separation."""
+    sign = travel_sign(entry.group)
+    boundary_nbrs = [n for n in neighbours if n.role == ROLE_BOUNDARY]
+    if params.mode != ControlMode.IMPROVED:
+        velocity += separation_velocity(q, _positions(boundary_nbrs), params.separation_distance_m,
+                                        params.separation_gain_mps)
+        if not encircled and tangent is not None:
+            velocity += encircle_velocity(entry.group, tangent, params.encircle_speed_mps)
+        return
+    velocity += safety_velocity(q, _positions(yielded_to(ROLE_BOUNDARY, neighbours)), params.safety_radius_m,
+                                params.safety_gain_mps)
+    heard = {n.vehicle_id: n for n in boundary_nbrs}
+    previous, following = ring_neighbours(entry.vehicle_id, params.ring_order(), heard, encircled)
+    ahead = following if sign > 0 else previous
+    if tangent is not None:
+        if previous is not None and following is not None and not (leading and not encircled):
+            velocity += spacing_velocity(q, tangent, previous, following, params.spacing_gain_per_s)
+        elif not encircled and (leading or ahead is None):
+            velocity += encircle_velocity(entry.group, tangent, params.encircle_speed_mps)

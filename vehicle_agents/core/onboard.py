@@ -25,7 +25,7 @@ from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
 from vehicle_agents.control.types import NeighbourInfo
 from vehicle_agents.core.filtered_neighbours import filter_noise, filtered_infos, table_hold_s, track_step
-from vehicle_agents.core.neighbour_filter import EMPTY_BANK, TrackBank
+from vehicle_agents.core.neighbour_filter import EMPTY_BANK, FilterNoise, TrackBank
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
 from vehicle_agents.core.relay import relay_copies, unpacked
 from vehicle_agents.core.telemetry import TelemetryBatch
@@ -161,16 +161,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         if action is Action.FLY:
-            infos = []
-            table = heard[i]
-            if noise is not None:
-                tracks[i], infos = filtered_infos(tracks[i], table, t_s, noise, filtered_cache)
-            for sender in sorted(table) if noise is None else ():
-                msg = table[sender]
-                info = converted.get(id(msg))
-                if info is None:
-                    info = converted[id(msg)] = neighbour_info(msg, max(0.0, t_s - msg.t_s))
-                infos.append(info)
+            tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted, filtered_cache)
             start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
             velocity, memories[i] = control_step(plan.roles[i], memories[i], own, inputs.perception[i], infos, params,
                                                  max(0.0, t_s - start_s))
@@ -185,12 +176,35 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             perception=inputs.perception[i], edge_points_en_m=memories[i].edge_points_en_m,
             leaving=action is Action.EXIT, low_battery=tel.battery_fraction < plan.limits.low_battery_fraction,
         )
-        if params.relay_max_hops > 0 and seq[i] % max(1, params.relay_every) == 0:
-            copies = relay_copies(heard[i], vid, t_s, seq[i], params.relay_max_hops, params.relay_max_age_s,
-                                  params.relay_budget_bytes)
-            message = msgspec.structs.replace(message, relayed=copies) if copies else message
-        messages.append(message)
+        messages.append(_with_relayed(message, heard[i], vid, t_s, seq[i], params))
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
                         departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks))
     return outputs, new_state
+
+
+def _neighbour_infos(table: Mapping[int, HeardState], track: TrackBank, t_s: float, noise: FilterNoise | None,
+                     converted: dict[int, NeighbourInfo],
+                     filtered_cache: dict[int, NeighbourInfo]) -> tuple[TrackBank, list[NeighbourInfo]]:
+    """What the laws read of the neighbours: the filtered estimates at ``t_s`` when the neighbour filter is on,
+    else the last message heard from each (converted once per message and shared across the fleet's drones)."""
+    if noise is not None:
+        return filtered_infos(track, table, t_s, noise, filtered_cache)
+    infos = []
+    for sender in sorted(table):
+        msg = table[sender]
+        info = converted.get(id(msg))
+        if info is None:
+            info = converted[id(msg)] = neighbour_info(msg, max(0.0, t_s - msg.t_s))
+        infos.append(info)
+    return track, infos
+
+
+def _with_relayed(message: NeighbourState, heard: Mapping[int, HeardState], vehicle_id: int, t_s: float, seq: int,
+                  params: ControlParams) -> NeighbourState:
+    """The drone's own state with the copies it relays this tick (every ``relay_every``-th message)."""
+    if params.relay_max_hops <= 0 or seq % max(1, params.relay_every) != 0:
+        return message
+    copies = relay_copies(heard, vehicle_id, t_s, seq, params.relay_max_hops, params.relay_max_age_s,
+                          params.relay_budget_bytes)
+    return msgspec.structs.replace(message, relayed=copies) if copies else message
