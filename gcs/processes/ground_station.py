@@ -70,6 +70,7 @@ from gcs.processes.host_capacity import agent_niceness, estimate_capacity
 from gcs.processes.intrusion_watch import IntrusionWatch
 from gcs.plan.files import write_plans
 from gcs.processes.launch import ProcessOptions, agent_command, cameras_command, radio_command, sim_command
+from gcs.processes.link_silence import SilenceJudge
 from gcs.processes.live_view import MissionSnapshot, VehicleRow, render, status_line
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.polygon.radio_node import GroundNode, antenna_enu_m
@@ -158,7 +159,7 @@ class GroundStation:
         self.failsafes: list[str] = []
         self._interrupted = False
         self._exited_agents: set[int] = set()
-        self._silent_vehicles: set[int] = set()
+        self._silence = SilenceJudge(vehicle_lost_after_s(options.speed))
         self._command_seq = 0
         self.mission_key: MissionKey | None = None
         self._node_verifier: Verifier | None = None
@@ -301,6 +302,7 @@ class GroundStation:
             while True:
                 await asyncio.sleep(tick_s)
                 now_wall_s = time.monotonic()
+                self._check_vehicles(watcher, now_wall_s)
                 if self._interrupted:
                     self.events("interrupted (Ctrl-C / SIGTERM): stopping every process")
                     self.console.print("[bold yellow]interrupted:[/] stopping every process, writing what was recorded")
@@ -317,7 +319,6 @@ class GroundStation:
                 self._poll_pace(pace_buf)
                 clock_seen = self._check_clock_moves(clock_seen, now_wall_s)
                 self._check_children()
-                self._check_vehicles(watcher, now_wall_s)
                 if self.dashboard is not None:
                     self.dashboard.tick(watcher, now_wall_s)
                 if self.phase == "starting":
@@ -461,19 +462,20 @@ class GroundStation:
             self._mark_lost(vid)
 
     def _check_vehicles(self, watcher: MavlinkWatcher, now_wall_s: float) -> None:
-        if self.phase not in ("takeoff", "mission"):
-            return
-        for vid in self.vehicle_ids:
-            watch = watcher.vehicles.get(vid)
-            lost_after_s = vehicle_lost_after_s(self.options.speed)
-            silent = watch is not None and watch.heartbeat_age_s(now_wall_s) > lost_after_s
-            if silent and vid not in self._silent_vehicles:
-                self._silent_vehicles.add(vid)
-                self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {lost_after_s:g} s")
-                self._mark_lost(vid)
-            elif not silent and vid in self._silent_vehicles:
-                self._silent_vehicles.discard(vid)
-                self.events(f"vehicle {vid}: heartbeat back on the GCS link")
+        """Heartbeat silence on the GCS link (:mod:`gcs.processes.link_silence`), judged right after the loop's
+        sleep, before this pass does any work of its own."""
+        flying = self.phase in ("takeoff", "mission")
+        ages = {vid: watcher.vehicles[vid].heartbeat_age_s(now_wall_s)
+                for vid in self.vehicle_ids if vid in watcher.vehicles}
+        verdict = self._silence.step(now_wall_s, ages, judging=flying)
+        if verdict.own_stall_s and flying:
+            self.events(f"ground station did not run for {verdict.own_stall_s:.1f} s (host under load): vehicle "
+                        f"silence judged again once it has read its link")
+        for vid in verdict.lost:
+            self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {self._silence.lost_after_s:g} s")
+            self._mark_lost(vid)
+        for vid in verdict.back:
+            self.events(f"vehicle {vid}: heartbeat back on the GCS link")
 
     def _mark_lost(self, vid: int) -> None:
         if vid not in self.lost:
