@@ -468,9 +468,9 @@ class GroundStation:
         ages = {vid: watcher.vehicles[vid].heartbeat_age_s(now_wall_s)
                 for vid in self.vehicle_ids if vid in watcher.vehicles}
         verdict = self._silence.step(now_wall_s, ages, judging=flying)
-        if verdict.own_stall_s and flying:
-            self.events(f"ground station did not run for {verdict.own_stall_s:.1f} s (host under load): vehicle "
-                        f"silence judged again once it has read its link")
+        if verdict.spared:
+            self.events(f"ground station did not run for {verdict.own_stall_s:.1f} s (host under load): vehicles "
+                        f"{', '.join(map(str, verdict.spared))} looked silent; judged again once it has read its link")
         for vid in verdict.lost:
             self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {self._silence.lost_after_s:g} s")
             self._mark_lost(vid)

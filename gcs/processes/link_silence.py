@@ -20,11 +20,13 @@ OWN_STALL_S = 0.5
 
 @dataclass(frozen=True)
 class SilenceVerdict:
-    """What one pass found: vehicles newly lost, vehicles heard again, and the ground station's own stall [s] (0: none)."""
+    """What one pass found: vehicles newly lost, vehicles heard again, the ground station's own stall [s] (0: none),
+    and the vehicles that looked silent only because it had stalled (not called lost)."""
 
     lost: tuple[int, ...]
     back: tuple[int, ...]
     own_stall_s: float
+    spared: tuple[int, ...] = ()
 
 
 @dataclass
@@ -48,13 +50,16 @@ class SilenceJudge:
         if not judging:
             return SilenceVerdict((), (), stall_s)
         may_lose = now_s >= self._judge_after_s
-        lost, back = [], []
+        lost, back, spared = [], [], []
         for vid, age_s in heartbeat_ages_s.items():
             quiet = age_s > self.lost_after_s
-            if quiet and may_lose and vid not in self.silent:
-                self.silent.add(vid)
-                lost.append(vid)
+            if quiet and vid not in self.silent:
+                if may_lose:
+                    self.silent.add(vid)
+                    lost.append(vid)
+                elif stall_s:
+                    spared.append(vid)
             elif not quiet and vid in self.silent:
                 self.silent.discard(vid)
                 back.append(vid)
-        return SilenceVerdict(tuple(lost), tuple(back), stall_s)
+        return SilenceVerdict(tuple(lost), tuple(back), stall_s, tuple(spared))

@@ -54,3 +54,11 @@ def test_before_take_off_nothing_is_judged() -> None:
     assert judge.step(0.0, {1: math.inf}, judging=False).lost == ()
     assert judge.step(5.0, {1: math.inf}, judging=True).lost == ()  # the 5 s gap was the loop's own
     assert judge.step(5.5, {1: math.inf}).lost == (1,)
+
+
+def test_the_vehicles_that_only_looked_silent_are_named() -> None:
+    judge = SilenceJudge(lost_after_s=2.0)
+    judge.step(10.0, {1: 0.1, 2: 0.1, 3: 0.1})
+    verdict = judge.step(12.5, {1: 0.0, 2: 2.6, 3: 2.6})
+    assert verdict.spared == (2, 3) and verdict.lost == ()
+    assert judge.step(12.55, {1: 0.05, 2: 0.0, 3: 0.0}).spared == ()
