@@ -81,9 +81,9 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("terrain", "terrain", "1-5"),
     Campaign("large", "large", "1-5"),
     Campaign("circle-pdot", "circle", "1-20", ("control.pdot_reading=full,none",)),
-    Campaign("breach", "breach", "1"),
-    Campaign("river", "river", "1"),
-    Campaign("pluvial", "pluvial", "1"),
+    Campaign("breach", "breach", "1-3"),
+    Campaign("river", "river", "1-2"),
+    Campaign("pluvial", "pluvial", "1-2"),
 )
 
 PDOT_KEY = "grid:control.pdot_reading"
