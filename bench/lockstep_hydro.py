@@ -8,6 +8,7 @@ heights), perception, and the rest (radio, vehicle backend, polygon, record). cP
 call alike, so compare the shares and ratios, not the absolute milliseconds, with an unprofiled run.
 
     .venv/bin/python -m bench.lockstep_hydro [--sim 20] [--scenarios circle breach river pluvial] [--mode improved]
+    .venv/bin/python -m bench.lockstep_hydro --lookups breach    # CPU per call of the flood's per-frame lookups
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import pstats
 import time
 
 import cv2
+import numpy as np
 
 from gcs.lockstep.engine import run_lockstep
 from gcs.scenario import load_scenario
@@ -53,13 +55,45 @@ def _shares(stats: pstats.Stats, total_s: float) -> dict[str, float]:
     return out
 
 
+def lookup_costs(name: str, calls: int = 2000) -> None:
+    """CPU [µs] per call of what a frame asks the flood: the rangefinder's reading, the depth raster at a flood time
+    (again for the same time, as the fleet's other cameras do), depth over an 80x60 footprint, flow at the drone."""
+    from mock_autopilot.world.config import flood_model_from_config
+    from mock_autopilot.world.ground import height_above_ground_m
+
+    scenario = load_scenario(name, [])
+    flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
+    position = np.array([3.0, -20.0, 10.0])
+    grid = np.zeros((60, 80, 2))
+    grid[..., 0] = np.arange(80)[None, :] * 0.1
+    grid[..., 1] = -np.arange(60)[:, None] * 0.1
+    checks = {
+        "rangefinder reading": lambda i: height_above_ground_m(flood, position),
+        "depth raster, same flood time": lambda i: flood.depth_raster_m(5.0),
+        "depth raster, new flood time": lambda i: flood.depth_raster_m(i * 0.01),
+        "depth over the footprint": lambda i: flood.depth_on_affine_grid_m(grid, 5.0),
+        "flow at the drone": lambda i: flood.flow_at_mps(position[:2], 5.0),
+    }
+    print(f"| {name}: lookup | CPU per call [µs] |")
+    print("|---|---|")
+    for label, call in checks.items():
+        start = time.process_time()
+        for i in range(calls):
+            call(i)
+        print(f"| {label} | {(time.process_time() - start) / calls * 1e6:.1f} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--sim", type=float, default=20.0)
     parser.add_argument("--scenarios", nargs="*", default=["circle", "breach", "river", "pluvial"])
     parser.add_argument("--mode", default="improved")
+    parser.add_argument("--lookups", metavar="SCENARIO", help="only time the flood's per-frame lookups on SCENARIO")
     ns = parser.parse_args()
     cv2.setNumThreads(1)
+    if ns.lookups:
+        lookup_costs(ns.lookups)
+        return
     names = ("onboard core", "camera render", "flood lookups", "perception", "rest")
     print(f"| scenario | vehicles | frames | engine CPU [s] (unprofiled) | CPU per sim s | CPU per frame [ms] | "
           + " | ".join(f"{n} [%]" for n in names) + " |")
