@@ -19,6 +19,9 @@ from typing import Any
 
 from gcs.campaign.grid import Mode, expand, parse_grid_axis, parse_seeds
 from gcs.campaign.results_hydro import hydro_section
+from gcs.campaign.results_radio import BURST_MEANS_S, LOSS_CAMPAIGN, LOSS_GRID, RADIO_FIXED, burst_campaign, burst_fixed
+from gcs.campaign.results_radio import radio_section
+from gcs.campaign.results_weather import PRESET_MODES, weather_campaign, weather_fixed, weather_section
 from gcs.campaign.store import read_rows
 from gcs.campaign.summary import Stats, distribution, failed_rows, finite_values, ok_rows
 
@@ -63,14 +66,25 @@ class Campaign:
     scenario: str
     seeds: str
     grid: tuple[str, ...] = ()
+    modes: tuple[Mode, ...] = (Mode.PAPER, Mode.IMPROVED)
+    fixed: tuple[str, ...] = ()
+    """``--set`` assignments shared by every run of the campaign."""
 
     def command(self) -> str:
         grid = "".join(f" --grid {g}" for g in self.grid)
-        return (f"python -m gcs.campaign {self.scenario} --seeds {self.seeds} --mode paper,improved{grid} "
+        fixed = "".join(f" --set {f}" for f in self.fixed)
+        modes = ",".join(m.value for m in self.modes)
+        return (f"python -m gcs.campaign {self.scenario} --seeds {self.seeds} --mode {modes}{grid}{fixed} "
                 f"--workers 1 --out {CAMPAIGN_ROOT / self.name}")
 
     def planned_runs(self) -> int:
-        return len(expand(self.scenario, list(Mode), parse_seeds(self.seeds), [parse_grid_axis(g) for g in self.grid]))
+        return len(expand(self.scenario, self.modes, parse_seeds(self.seeds), [parse_grid_axis(g) for g in self.grid],
+                          self.fixed))
+
+    @property
+    def plain(self) -> bool:
+        """A bundled scenario as it is: no grid, no overrides (a line of the "every scenario" table)."""
+        return not self.grid and not self.fixed
 
 
 CAMPAIGNS: tuple[Campaign, ...] = (
@@ -84,6 +98,9 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("breach", "breach", "1-3"),
     Campaign("river", "river", "1-2"),
     Campaign("pluvial", "pluvial", "1-2"),
+    Campaign(LOSS_CAMPAIGN, "circle", "1-20", (LOSS_GRID,), (Mode.IMPROVED,), RADIO_FIXED),
+    *(Campaign(burst_campaign(b), "circle", "1-20", (), (Mode.IMPROVED,), burst_fixed(b)) for b in BURST_MEANS_S),
+    *(Campaign(weather_campaign(p), "circle", "1-20", (), modes, weather_fixed(p)) for p, modes in PRESET_MODES.items()),
 )
 
 PDOT_KEY = "grid:control.pdot_reading"
@@ -168,10 +185,8 @@ def distribution_table(groups: Sequence[tuple[Sequence[str], Sequence[Row], int]
     return lines
 
 
-def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
-    """The whole RESULTS.md from the campaigns' rows (pure)."""
-    ok = {name: ok_rows(rows) for name, rows in rows_by_campaign.items()}
-    circle = ok.get("circle", [])
+def _preamble(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> list[str]:
+    """Where the numbers come from, the modes, how to read a cell, and the campaigns with their commands."""
     versions = sorted({str(r.get("code_version")) for rows in rows_by_campaign.values() for r in rows})
     out = [
         "# Results",
@@ -215,8 +230,14 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         wall = distribution(r.get("wall_s") for r in rows)
         out.append(f"| `{campaign.name}` | {campaign.planned_runs()} | {len(rows)} | {len(failed_rows(rows))} | "
                    f"{fmt_stats(wall, '{:.0f}')} |")
+    return out
+
+
+def _circle_and_scenarios(ok: Mapping[str, Sequence[Row]]) -> list[str]:
+    """The targets on `circle` and every bundled scenario in both modes."""
+    circle = ok.get("circle", [])
     seeds = next((c.seeds for c in CAMPAIGNS if c.name == "circle"), "")
-    out += [
+    out = [
         "",
         f"## Targets on `circle`, seeds {seeds}",
         "",
@@ -233,7 +254,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
     ]
     groups = []
     for campaign in CAMPAIGNS:
-        if campaign.grid:
+        if not campaign.plain:
             continue
         rows = ok.get(campaign.name, [])
         vehicles = next((str(r.get("vehicles")) for r in rows if r.get("vehicles") is not None), "—")
@@ -241,7 +262,13 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         for mode in (Mode.PAPER, Mode.IMPROVED):
             groups.append(([f"`{campaign.scenario}`", vehicles, mode.value, campaign.seeds], _mode_rows(rows, mode),
                            planned))
-    out += [*distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
+    return [*out, *distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
+
+
+def _pdot_section(ok: Mapping[str, Sequence[Row]]) -> list[str]:
+    """Eq 5's ṗ feed-forward read three ways on `circle`."""
+    circle = ok.get("circle", [])
+    seeds = next((c.seeds for c in CAMPAIGNS if c.name == "circle"), "")
     pdot_rows = ok.get("circle-pdot", [])
     pdot_groups = []
     pdot_seeds = len(parse_seeds(next((c.seeds for c in CAMPAIGNS if c.name == "circle-pdot"), "1")))
@@ -251,7 +278,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         for reading in ("full", "none"):
             pdot_groups.append(([mode.value, reading],
                                 [r for r in _mode_rows(pdot_rows, mode) if r.get(PDOT_KEY) == reading], pdot_seeds))
-    out += [
+    return [
         "## ṗ feed-forward readings of eq 5 on `circle` (SPEC §2)",
         "",
         "`normal`: only the edge-normal part of ṗ (both modes' default; the rows of the `circle` campaign); `full`: "
@@ -261,7 +288,15 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         *distribution_table(pdot_groups, ["mode", "ṗ reading"]),
         "",
     ]
+
+
+def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
+    """The whole RESULTS.md from the campaigns' rows (pure)."""
+    ok = {name: ok_rows(rows) for name, rows in rows_by_campaign.items()}
+    out = [*_preamble(rows_by_campaign, stamp), *_circle_and_scenarios(ok), *_pdot_section(ok)]
     out += hydro_section(ok)
+    out += radio_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == LOSS_CAMPAIGN))))
+    out += weather_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == weather_campaign("moderate")))))
     failed = [(name, r) for name, rows in rows_by_campaign.items() for r in failed_rows(rows)]
     if failed:
         out += ["## Failed runs", "", "| campaign | mode | seed | grid cell | error |", "|---|---|---|---|---|"]

@@ -26,9 +26,11 @@ import numpy as np
 
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
+from comms.px4 import Px4Mode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
 from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import FleetPlan, fleet_plan
+from mission_plan.roles import Role
 from mission_plan.table_fields import ScenarioError
 from mock_autopilot.backends.px4 import px4_vehicle_configs
 from mock_autopilot.camera.model import CameraModel
@@ -39,6 +41,7 @@ from mock_autopilot.px4_streams import DEFAULT_PROFILE
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth, camera_users
 from mock_autopilot.sim_bridge.pace_keeper import PaceKeeper
 from mock_autopilot.vehicle import VehicleConfig
+from mock_autopilot.weather_model import Weather
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import relative_ground_m
@@ -51,7 +54,8 @@ def vehicle_configs(plan: FleetPlan) -> list[VehicleConfig]:
     response time, which is not a PX4 parameter)."""
     return px4_vehicle_configs(plan.kinematics, plan.altitude_m, [v.pad_enu_m for v in plan.vehicles],
                                has_gps=[v.has_gps for v in plan.vehicles], home=plan.home,
-                               system_ids=[v.vehicle_id for v in plan.vehicles], stream_profile=DEFAULT_PROFILE)
+                               system_ids=[v.vehicle_id for v in plan.vehicles], stream_profile=DEFAULT_PROFILE,
+                               weather=Weather(plan.wind, plan.sensors, plan.seed, plan.altitude_m))
 
 
 def load_fleet_plan(plan_path: Path | None, scenario: str | None, overrides: Sequence[str]) -> FleetPlan:
@@ -80,7 +84,7 @@ def setpoint_ages(fleet: Fleet, truth: FleetTruth, now_s: float) -> list[float]:
     ages = []
     for vehicle, mode in zip(fleet.vehicles, truth.modes):
         received_s = getattr(vehicle, "_setpoint_t_s", None)
-        if mode == "OFFBOARD" and received_s is not None and np.isfinite(received_s):
+        if mode == Px4Mode.OFFBOARD.value and received_s is not None and np.isfinite(received_s):
             ages.append(now_s - received_s)
     return ages
 
@@ -105,7 +109,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--camera-hz", type=float,
                    help="camera frame rate in mission time (default: the plan's camera rate)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
-    p.add_argument("--cameras", choices=("boundary", "all", "none"), default="boundary",
+    p.add_argument("--cameras", choices=(Role.BOUNDARY.value, "all", "none"), default=Role.BOUNDARY.value,
                    help="whose camera this process streams: the boundary drones (the only law that uses images), "
                         "all, or none (python -m mock_autopilot.sim_bridge.cameras streams them instead)")
     p.add_argument("--fault", action="append", default=[], metavar="KIND:INSTANCE[:VALUE]@T",
