@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -25,7 +26,7 @@ import cv2
 import numpy as np
 
 from comms.messages import CameraFrame, MissionCommand
-from vehicle_agents.autopilot_link import AutopilotLink, AutopilotLinkError
+from vehicle_agents.autopilot_link import AutopilotLink, AutopilotLinkError, AutopilotTelemetry
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.core.onboard import GroundOrder, OnboardInputs, OnboardPlan, initial_state, onboard_step
 from vehicle_agents.core.telemetry import telemetry_batch
@@ -37,6 +38,14 @@ from vehicle_agents.sim_clock_link import SimClockLink
 from vehicle_agents.swarm_port import SwarmPort
 
 log = logging.getLogger("vehicle_agents")
+
+
+def perception_height_m(telemetry: AutopilotTelemetry, frame: CameraFrame) -> float:
+    """How far below the camera the ground is, which sets perception's metres per pixel: the autopilot's downward
+    rangefinder (DISTANCE_SENSOR; over relief it differs from the altitude above home), else the altitude the camera
+    frame carries (a vehicle without a rangefinder, or before its first reading)."""
+    reading = telemetry.height_above_ground_m
+    return reading if math.isfinite(reading) and reading > 0.0 else frame.altitude_m
 
 EXIT_OK = 0
 EXIT_LINK_LOST = 3
@@ -289,6 +298,8 @@ class Agent:
             self._perception = PerceptionResult.no_measurement()
             return
         # Edge points go to the ground with the heading the autopilot reports (ATTITUDE), not the simulator's: a
-        # camera without a gimbal knows only its vehicle's estimate.
-        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, self.link.telemetry.yaw_ned_rad)
+        # camera without a gimbal knows only its vehicle's estimate. Metres per pixel come from the downward
+        # rangefinder's reading (DISTANCE_SENSOR), which over relief is not the altitude above home.
+        self._perception = perceive(image, perception_height_m(self.link.telemetry, frame), frame.fov_deg,
+                                    self.link.telemetry.yaw_ned_rad)
         self.stats.frames_processed += 1

@@ -27,6 +27,9 @@ class AutopilotTelemetry:
     has_global_position: bool = False
     latitude_deg: float = float("nan")
     longitude_deg: float = float("nan")
+    height_above_ground_m: float = float("nan")
+    """The downward rangefinder's reading (DISTANCE_SENSOR) [m]: how far the ground below is, which over relief is not
+    the altitude above home; NaN until one is heard (a vehicle without a rangefinder)."""
     last_message_monotonic_s: float = 0.0
     """Wall-clock (``time.monotonic``) time of the newest message from the vehicle: the link-health signal."""
 

@@ -50,6 +50,7 @@ TELEMETRY_RATES_HZ: dict[str, float] = {
     "position_velocity_ned": 20.0,  # LOCAL_POSITION_NED: the control law's input, at the default control rate
     "attitude_euler": 10.0,  # ATTITUDE: the heading perception projects the camera's edge points with
     "position": 10.0,  # GLOBAL_POSITION_INT: the GPS leader's latitude/longitude for the ground station
+    "distance_sensor": 2.0,  # DISTANCE_SENSOR: the ground's distance, perception's scale (relief changes slowly)
     "altitude": -1.0,  # ALTITUDE: not read
     "fixedwing_metrics": -1.0,  # VFR_HUD: not read
     "distance_sensor": -1.0,  # DISTANCE_SENSOR: not read (perception takes its height from the camera frame)
@@ -82,6 +83,7 @@ class _TelemetryFields:
         self.ready_to_arm = default.ready_to_arm
         self.global_position: tuple[bool, float, float] = (
             default.has_global_position, default.latitude_deg, default.longitude_deg)
+        self.height_above_ground_m = default.height_above_ground_m
         self.last_message_monotonic_s = default.last_message_monotonic_s
 
     def snapshot(self) -> AutopilotTelemetry:
@@ -91,7 +93,8 @@ class _TelemetryFields:
             position_ned_m=position, velocity_ned_mps=velocity, yaw_ned_rad=self.yaw_ned_rad, armed=self.armed,
             in_air=self.in_air, flight_mode=self.flight_mode, battery_fraction=self.battery_fraction,
             ready_to_arm=self.ready_to_arm, has_global_position=has_global, latitude_deg=latitude,
-            longitude_deg=longitude, last_message_monotonic_s=self.last_message_monotonic_s)
+            longitude_deg=longitude, height_above_ground_m=self.height_above_ground_m,
+            last_message_monotonic_s=self.last_message_monotonic_s)
 
 
 class MavsdkAutopilotLink:
@@ -184,6 +187,11 @@ class MavsdkAutopilotLink:
         def battery(b: Any) -> None:
             fields.battery_fraction = _battery_fraction(b.remaining_percent)
 
+        def distance_sensor(d: Any) -> None:
+            distance = float(d.current_distance_m)
+            if math.isfinite(distance) and distance > 0.0:
+                fields.height_above_ground_m = distance
+
         def health(h: Any) -> None:
             fields.ready_to_arm = bool(h.is_armable and h.is_local_position_ok)
 
@@ -195,6 +203,7 @@ class MavsdkAutopilotLink:
         tel.subscribe_battery(stamped(battery))
         tel.subscribe_health(stamped(health))
         tel.subscribe_position(stamped(global_position))
+        tel.subscribe_distance_sensor(stamped(distance_sensor))
 
     async def arm(self) -> None:
         await self._call("arm", self._require(self._action).arm)

@@ -100,6 +100,9 @@ class PymavlinkAutopilotLink:
                 self._update(ready_to_arm=ready, battery_fraction=battery)
             elif kind == "GLOBAL_POSITION_INT":
                 self._update(latitude_deg=msg.lat / 1e7, longitude_deg=msg.lon / 1e7, has_global_position=True)
+            elif kind == "DISTANCE_SENSOR" and msg.orientation == _ml.MAV_SENSOR_ROTATION_PITCH_270:
+                if msg.current_distance > 0:
+                    self._update(height_above_ground_m=msg.current_distance / 100.0)
             elif kind == "COMMAND_ACK":
                 with self._lock:
                     self._acks[msg.command] = msg.result

@@ -7,6 +7,7 @@ from collections.abc import Collection, Container, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from comms.px4 import Px4Mode
+from gcs.processes.link_silence import SilenceJudge
 from gcs.processes.mavlink_watch import VehicleWatch
 
 if TYPE_CHECKING:
@@ -27,23 +28,30 @@ def vehicle_lost_after_s(speed: float) -> float:
 
 
 class HeartbeatWatch:
-    """Which vehicles fell silent on the GCS link (and came back), announced once per change."""
+    """Which vehicles fell silent on the GCS link (and came back), announced once per change; judged by
+    :class:`~gcs.processes.link_silence.SilenceJudge`, which does not count the ground station's own stalls."""
 
     def __init__(self, speed: float) -> None:
         self.lost_after_s = vehicle_lost_after_s(speed)
-        self.silent: set[int] = set()
+        self._judge = SilenceJudge(self.lost_after_s)
+        self.spared: tuple[int, ...] = ()
+        """Vehicles the last call found silent only because the station itself had stalled (not called lost)."""
+        self.own_stall_s = 0.0
+        """That stall [wall s]."""
+
+    @property
+    def silent(self) -> set[int]:
+        return self._judge.silent
 
     def changes(self, vehicle_ids: Sequence[int], watched: Mapping[int, VehicleWatch],
                 now_wall_s: float) -> list[tuple[int, bool, float]]:
-        """(vehicle id, now silent, silence bound [s]) for every vehicle whose silence changed since the last call."""
-        out = []
-        for vid in vehicle_ids:
-            watch = watched.get(vid)
-            silent = watch is not None and watch.heartbeat_age_s(now_wall_s) > self.lost_after_s
-            if silent != (vid in self.silent):
-                (self.silent.add if silent else self.silent.discard)(vid)
-                out.append((vid, silent, self.lost_after_s))
-        return out
+        """(vehicle id, now silent, silence bound [s]) for every vehicle whose silence changed since the last call;
+        called on every pass of the station's loop in flight, so that a gap between calls is its own stall."""
+        ages = {vid: watched[vid].heartbeat_age_s(now_wall_s) for vid in vehicle_ids if vid in watched}
+        verdict = self._judge.step(now_wall_s, ages)
+        self.spared, self.own_stall_s = verdict.spared, verdict.own_stall_s
+        return [*((vid, True, self.lost_after_s) for vid in verdict.lost),
+                *((vid, False, self.lost_after_s) for vid in verdict.back)]
 
 
 def everyone_heard(vehicle_ids: Sequence[int], watched: Mapping[int, VehicleWatch]) -> bool:

@@ -222,6 +222,7 @@ class GroundStation:
             while True:
                 await asyncio.sleep(tick_s)
                 now_wall_s = time.monotonic()
+                self._check_vehicles(watcher, now_wall_s)
                 if self._interrupted:
                     self.events("interrupted (Ctrl-C / SIGTERM): stopping every process")
                     self.console.print("[bold yellow]interrupted:[/] stopping every process, writing what was recorded")
@@ -236,7 +237,6 @@ class GroundStation:
                     self.pace.poll(pace_buf)
                 self.pace.check_clock_moves(self.mission_t_s, self.phase.in_flight, now_wall_s)
                 self._check_children()
-                self._check_vehicles(watcher, now_wall_s)
                 if self.dashboard is not None:
                     self.dashboard.tick(watcher, now_wall_s)
                 if self._advance(hub, watcher, now_wall_s, started_wall_s):
@@ -355,7 +355,12 @@ class GroundStation:
     def _check_vehicles(self, watcher: MavlinkWatcher, now_wall_s: float) -> None:
         if not self.phase.in_flight:
             return
-        for vid, silent, lost_after_s in self.heartbeats.changes(self.vehicle_ids, watcher.vehicles, now_wall_s):
+        changes = self.heartbeats.changes(self.vehicle_ids, watcher.vehicles, now_wall_s)
+        if self.heartbeats.spared:
+            self.events(f"ground station did not run for {self.heartbeats.own_stall_s:.1f} s (host under load): "
+                        f"vehicles {', '.join(map(str, self.heartbeats.spared))} looked silent; judged again once it "
+                        f"has read its link")
+        for vid, silent, lost_after_s in changes:
             if silent:
                 self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {lost_after_s:g} s")
                 self._mark_lost(vid)

@@ -52,6 +52,7 @@ class HydroFlood:
     _flows: dict[int, NDArray[np.float32]] = field(init=False, repr=False, default_factory=dict)
     _outlines: dict[float, Outline] = field(init=False, repr=False, default_factory=dict)
     _target: list[NDArray[np.bool_]] = field(init=False, repr=False, default_factory=list)
+    _blend: dict[float, NDArray[np.float32]] = field(init=False, repr=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "grid", Heightmap(self.run.ground_m, self.run.cell_m, self.run.center_en_m))
@@ -62,12 +63,22 @@ class HydroFlood:
         return float(min(max(self.start_s + self.time_scale * t_s, times[0]), times[-1]))
 
     def depth_raster_m(self, t_s: float) -> NDArray[np.float32]:
-        """(rows, cols) depth [m] at flood time ``t_s``, blended between the two frames around it."""
+        """(rows, cols) depth [m] at flood time ``t_s``, blended between the two frames around it (read-only).
+
+        The newest blend is kept: every camera of a fleet looks at the same flood time, so one blend serves them all.
+        """
         th = self.hydraulic_time_s(t_s)
+        cached = self._blend.get(th)
+        if cached is not None:
+            return cached
         times = self.run.times_s
         k = int(np.clip(np.searchsorted(times, th, side="right") - 1, 0, len(times) - 2))
         w = float((th - times[k]) / (times[k + 1] - times[k]))
-        return cv2.addWeighted(self.run.depth_m[k], 1.0 - w, self.run.depth_m[k + 1], w, 0.0)
+        blend = cv2.addWeighted(self.run.depth_m[k], 1.0 - w, self.run.depth_m[k + 1], w, 0.0)
+        blend.flags.writeable = False
+        self._blend.clear()
+        self._blend[th] = blend
+        return blend
 
     def depth_m(self, points_en_m: ArrayLike, t_s: float) -> NDArray[np.float32]:
         """Water depth [m] at each (..., 2) point; 0 off the domain."""
@@ -124,13 +135,22 @@ class HydroFlood:
 
     def ground_height_m(self, points_en_m: ArrayLike) -> NDArray[np.float64]:
         """Ground height [m] of the solver's mesh at each (..., 2) point (edge cells held beyond the domain)."""
-        col, row = self.grid.grid_coordinates(points_en_m)
+        p = np.asarray(points_en_m, dtype=float)
         rows, cols = self.grid.shape
+        if p.shape == (2,):
+            return np.asarray(self._ground_at(*self._clipped_coordinates(float(p[0]), float(p[1]))))
+        col, row = self.grid.grid_coordinates(p)
         col = np.clip(col, 0.0, cols - 1.0)
         row = np.clip(row, 0.0, rows - 1.0)
-        if np.ndim(col) == 0:
-            return np.asarray(self._ground_at(float(col), float(row)))
         return sample_grid(self.run.ground_m, col, row, cv2.INTER_LINEAR, 0.0).astype(float)
+
+    def _clipped_coordinates(self, east_m: float, north_m: float) -> tuple[float, float]:
+        """``grid_coordinates`` of one point held on the grid, in plain floats (the per-frame rangefinder reading)."""
+        rows, cols = self.grid.shape
+        cx, cy = self.grid.center_en_m
+        col = (east_m - cx) / self.grid.cell_m + cols / 2.0 - 0.5
+        row = -(north_m - cy) / self.grid.cell_m + rows / 2.0 - 0.5
+        return min(max(col, 0.0), cols - 1.0), min(max(row, 0.0), rows - 1.0)
 
     def _ground_at(self, col: float, row: float) -> float:
         """Bilinear ground height at one fractional (col, row) on the grid (the rangefinder's single reading)."""

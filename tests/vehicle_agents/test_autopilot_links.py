@@ -110,3 +110,23 @@ def test_mavsdk_link_asks_px4_for_the_streams_it_reads_and_stops_the_rest(udp_po
 
     with Fleet([VehicleConfig(0, stream_profile="px4")], base_port=port, gcs_port=gcs) as fleet:
         asyncio.run(connect(fleet))
+
+
+@pytest.mark.parametrize(("make_link", "port"), [(MavsdkAutopilotLink, 26060), (PymavlinkAutopilotLink, 26070)])
+def test_link_reads_height_above_ground_from_the_downward_rangefinder(make_link, port: int) -> None:  # noqa: ANN001
+    """The mock sends DISTANCE_SENSOR from the ground below the vehicle; with the ground 2.5 m below home, a
+    vehicle on its pad (at home height) reads 2.5 m (PX4 sends centimetres), not its altitude above home (0 m)."""
+
+    async def read(fleet: Fleet) -> None:
+        fleet.vehicles[0].ground_below_enu_m = -2.5
+        link = make_link(f"udpin://0.0.0.0:{port}")
+        try:
+            await link.connect(10.0)
+            assert await _until(lambda: link.telemetry.height_above_ground_m == pytest.approx(2.5, abs=0.011),
+                                10.0), link.telemetry
+            assert -link.telemetry.position_ned_m[2] == pytest.approx(0.0, abs=0.05)
+        finally:
+            await link.close()
+
+    with Fleet([VehicleConfig(0)], base_port=port, gcs_port=port + 5) as fleet:
+        asyncio.run(read(fleet))
