@@ -53,7 +53,6 @@ TELEMETRY_RATES_HZ: dict[str, float] = {
     "distance_sensor": 2.0,  # DISTANCE_SENSOR: the ground's distance, perception's scale (relief changes slowly)
     "altitude": -1.0,  # ALTITUDE: not read
     "fixedwing_metrics": -1.0,  # VFR_HUD: not read
-    "distance_sensor": -1.0,  # DISTANCE_SENSOR: not read (perception takes its height from the camera frame)
 }
 """MAVSDK ``Telemetry.set_rate_<name>`` -> rate [Hz of the autopilot's clock]; -1 stops the stream (MAVSDK sends
 interval -1), 0 would restore the autopilot's default."""
