@@ -1,8 +1,9 @@
 """A whole mission setup as one frozen :class:`Scenario`, validated from its parsed TOML table.
 
 A scenario says where the mission is (``[home]``), what floods (``[flood]``, validated by the world's
-``flood_model_from_config``), who flies (``[fleet]``, :mod:`mission_plan.fleet`), the camera (``[camera]``), the
-radio (``[radio]``), the vehicle limits (``[kinematics]``) and the control parameters (``[control]``, with
+``flood_model_from_config``), who flies (``[fleet]``, :mod:`mission_plan.fleet`), the camera (``[camera]``) and
+its imaging conditions (``[imaging]``, :mod:`mission_plan.imaging`), the radio (``[radio]``), the vehicle limits
+(``[kinematics]``) and the control parameters (``[control]``, with
 ``[control.paper]``/``[control.improved]``, :mod:`mission_plan.control_params`). Any error raises
 :class:`~mission_plan.table_fields.ScenarioError` whose one-line message names the field; an unknown key in any
 table but ``[flood]`` names the closest known key here (the flood's own keys are checked with the flood model).
@@ -19,6 +20,7 @@ from mission_plan.control_params import ControlParams, ControlParamsError, param
 from mission_plan.dynamics import KinematicLimits
 from mission_plan.fleet import AUTO_LAUNCH, VehicleSpec, build_fleet, check_fleet_keys
 from mission_plan.home import GeodeticHome
+from mission_plan.imaging import ImagingSpec, imaging_spec
 from mission_plan.roster import RosterEntry
 from mission_plan.scenarios import SCENARIO_DIR
 from mission_plan.table_fields import ScenarioError, integer, number, reject_unknown, sub_table
@@ -86,6 +88,7 @@ class Scenario:
     control_rate_hz: float = 20.0
     polygon_period_s: float = 1.0
     source_dir: Path = field(default=SCENARIO_DIR)
+    imaging: ImagingSpec = field(default=ImagingSpec())
 
     def roster(self) -> tuple[RosterEntry, ...]:
         """Every vehicle as the others know it."""
@@ -102,7 +105,8 @@ class Scenario:
 
 
 TOP_KEYS = frozenset({"name", "description", "seed", "duration_s", "altitude_m", "control_rate_hz",
-                      "polygon_period_s", "home", "flood", "fleet", "camera", "radio", "kinematics", "control"})
+                      "polygon_period_s", "home", "flood", "fleet", "camera", "radio", "kinematics", "control",
+                      "imaging"})
 _HOME_KEYS = frozenset(f.name for f in fields(GeodeticHome))
 _CAMERA_KEYS = frozenset(f.name for f in fields(CameraSpec))
 _RADIO_KEYS = frozenset(f.name for f in fields(RadioSpec))
@@ -203,6 +207,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         control_rate_hz=number(raw, "control_rate_hz", 20.0, "", positive=True, maximum=1000.0),
         polygon_period_s=number(raw, "polygon_period_s", 1.0, "", positive=True),
         source_dir=source_dir,
+        imaging=imaging_spec(sub_table(raw, "imaging")),
     )
     for mode in ("paper", "improved"):
         scenario.control_params(mode)
