@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
+import math
 from typing import Any
 
 from mission_plan.table_fields import ScenarioError, integer, number, reject_unknown
@@ -81,3 +82,14 @@ def imaging_spec(table: Mapping[str, Any]) -> ImagingSpec:
         turbid_water_probability=fraction("turbid_water_probability"),
         floating_debris=_flag(table, "floating_debris"),
     )
+
+
+def mean_wind_en_mps(scenario: object) -> tuple[float, float]:
+    """The mean wind the cloud shadows drift with [m/s; east, north]: the scenario's ``[wind]`` table
+    (``speed_mps`` blowing FROM ``from_deg``, clockwise from north) when it has one, else calm."""
+    wind = getattr(scenario, "wind", None)
+    speed = float(getattr(wind, "speed_mps", 0.0) or 0.0)
+    if not (math.isfinite(speed) and speed > 0.0):
+        return (0.0, 0.0)
+    towards = math.radians(float(getattr(wind, "from_deg", 0.0)) + 180.0)
+    return (speed * math.sin(towards), speed * math.cos(towards))

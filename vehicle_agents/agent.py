@@ -282,5 +282,7 @@ class Agent:
         if image is None:
             self._perception = PerceptionResult.no_measurement()
             return
-        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, frame.yaw_ned_rad)
+        attitude = self.link.telemetry
+        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, frame.yaw_ned_rad,
+                                    roll_rad=attitude.roll_rad, pitch_rad=attitude.pitch_rad)
         self.stats.frames_processed += 1

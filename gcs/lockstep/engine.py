@@ -37,7 +37,9 @@ from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, rep
 from gcs.scenario import Scenario
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
+from mission_plan.imaging import ImagingSpec, mean_wind_en_mps
+from mock_autopilot.camera.body_tilt import tilt_from_acceleration_rad
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, CameraPose, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
@@ -111,13 +113,16 @@ def telemetry_of(state: BackendState, positions_enu_m: NDArray[np.float64], gps:
 
 
 def _perception_for(
-    flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int
+    flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int,
+    pose: CameraPose, imaging: ImagingSpec,
 ) -> PerceptionResult:
-    """Render and perceive one frame; perception scales by the downward rangefinder's height above ground, as the
-    agent does with PX4's DISTANCE_SENSOR (equal to the altitude over flat ground)."""
-    frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed)
+    """Render and perceive one frame from the body's true tilt, under the scenario's imaging conditions; perception
+    scales by the downward rangefinder's height above ground, as the agent does with PX4's DISTANCE_SENSOR (equal
+    to the altitude over flat ground), and projects with the attitude (here the true one, as ATTITUDE reports)."""
+    frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed, pose=pose, imaging=imaging)
     height_m = max(height_above_ground_m(flood, position_enu_m), MIN_ALTITUDE_M)
-    return perceive(frame.image_bgr, height_m, camera.fov_deg, 0.0)
+    roll, pitch = pose.tilt_rad
+    return perceive(frame.image_bgr, height_m, camera.fov_deg, 0.0, roll_rad=roll, pitch_rad=pitch)
 
 
 def run_lockstep(
@@ -184,6 +189,8 @@ def run_lockstep(
     next_frame_t = 0.0
     perceptions: list[PerceptionResult | None] = [None] * n
     frames = 0
+    wind = mean_wind_en_mps(scenario)
+    previous_velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
     wall_start = time.perf_counter()
     cpu_start = time.process_time()
 
@@ -195,11 +202,17 @@ def run_lockstep(
         if ground is not None:
             ground.hear(inboxes[n].states, t_s)
             inboxes = inboxes[:n]
+        velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
+        tilts = tilt_from_acceleration_rad((velocity_ned - previous_velocity_ned) / dt_s, state.yaw_ned_rad)
+        previous_velocity_ned = velocity_ned
         if slot_reached(next_frame_t, t_s):
             next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
             for i, vehicle in enumerate(vehicles):
                 if state.alive[i] and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
-                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed)
+                    pose = CameraPose(tilt_rad=(float(tilts[i, 0]), float(tilts[i, 1])), vehicle_id=ids[i],
+                                      velocity_en_mps=(float(velocity_ned[i, 1]), float(velocity_ned[i, 0])),
+                                      wind_en_mps=wind)
+                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging)
                     frames += 1
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, positions, gps, scenario),
                                perception=perceptions, inbox=inboxes, orders=orders)

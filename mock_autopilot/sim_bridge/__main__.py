@@ -62,7 +62,8 @@ def load_fleet_plan(plan_path: Path | None, scenario: str | None, overrides: Seq
 def vehicle_truths(truth: FleetTruth) -> list[VehicleTruth]:
     return [
         VehicleTruth(int(truth.system_ids[i]), truth.position_enu_m[i], truth.velocity_enu_mps[i],
-                     float(truth.yaw_ned_rad[i]), bool(truth.alive[i]))
+                     float(truth.yaw_ned_rad[i]), bool(truth.alive[i]),
+                     tuple(float(a) for a in truth.tilt_rad[i]) if truth.tilt_rad is not None else (0.0, 0.0))
         for i in range(len(truth.system_ids))
     ]
 
