@@ -1,15 +1,11 @@
-"""Land/water segmentation of the downward camera image and what eq 5 and Algorithm 1 need from it (paper §III-A.1).
+"""What eq 5 and Algorithm 1 need from one downward camera frame (paper §III-A.1).
 
-The perception is never told the truth. Water mirrors the sky and is blue-grey; grass, dry grass, soil and wet
-shoreline soil are green to brown. So the pixels are projected on a blue-yellow opponent axis, the "blueness"
-``B − (G + R)/2 + 128`` (the lighting scales every channel alike, so the sign of ``B − (G + R)/2`` holds in shade
-and sun): water is above neutral grey, land below. Otsu's method splits the frame into two classes on that axis;
-the threshold is then put half-way between the two class means (Otsu leans towards the larger class when the other
-is a small corner), and a small opening and closing remove sensor-noise specks. When the two classes are not
-really different, or the split lies far from neutral (Otsu has split grass from dry grass in a frame of land),
-the frame holds one kind of ground, told by which side of neutral it lies: Algorithm 1's climb rule. Pixels
-become ground offsets with the nadir pinhole geometry of SPEC §3 (``2 h tan(fov/2) / W`` metres per pixel),
-rotated by the vehicle's yaw into east/north.
+The perception is never told the truth. ``water_mask.segment_water`` classifies the pixels (no fixed colour of
+water: see that module); a class under ``MIN_CLASS_FRACTION`` of the image is absent, and a frame of one class sets
+Algorithm 1's climb flags. The water and land centroids, their midpoint (eq 5's ``p − q``) and sub-pixel edge points
+are projected to the ground through the body-fixed camera's pinhole geometry at the height above ground and the
+attitude the autopilot reports (:mod:`comms.camera_projection`; level, SPEC §3's ``2 h tan(fov/2) / W`` metres per
+pixel rotated by the yaw), as offsets from the point below the drone along east/north.
 
 Bad input (not an image, wrong size, black, saturated, featureless, NaN altitude, bad field of view) gives
 ``PerceptionResult.no_measurement()``; nothing raises.
@@ -187,15 +183,18 @@ def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], w
     if to_ground[2, 0] == 0.0 and to_ground[2, 1] == 0.0:
         both = project_pixels(to_ground, np.array([water_px[0], land_px[0]]), np.array([water_px[1], land_px[1]]))
         return both[0], both[1]
-    x, y = _pixel_centres(mask.shape[1], mask.shape[0])
-    ground = project_pixels(to_ground, x, y)
-    return ground[mask].mean(axis=0), ground[~mask].mean(axis=0)
+    ground = cv2.perspectiveTransform(_pixel_centres(mask.shape[1], mask.shape[0]), to_ground).reshape(mask.shape + (2,))
+    m8 = mask.view(np.uint8)
+    water = cv2.mean(ground, mask=m8)[:2]
+    land = cv2.mean(ground, mask=cv2.bitwise_not(m8) & 1)[:2]
+    return np.array(water), np.array(land)
 
 
 @lru_cache(maxsize=8)
-def _pixel_centres(width_px: int, height_px: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _pixel_centres(width_px: int, height_px: int) -> NDArray[np.float32]:
+    """(H·W, 1, 2) image coordinates of every pixel centre, for ``cv2.perspectiveTransform``."""
     x, y = np.meshgrid(np.arange(width_px) + 0.5, np.arange(height_px) + 0.5)
-    return x, y
+    return np.stack([x, y], axis=-1).reshape(-1, 1, 2).astype(np.float32)
 
 
 def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshold: float) -> NDArray[np.float64]:
