@@ -115,7 +115,8 @@ def score_condition(name: str, spec: ImagingSpec, max_tilt_deg: float, floods: l
             flag_errors += 1
             continue
         if both:
-            ref = truth_reference(camera, (position[0], position[1], agl), yaw, truth, tilt_rad=tilt)  # type: ignore[arg-type]
+            ref = truth_reference(camera, (position[0], position[1], agl), yaw, truth,
+                                  tilt_rad=tilt)  # type: ignore[arg-type]
             mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - ref.midpoint_en_m)))
     return ConditionScore(
         name=name, frames=frames, frames_with_edge=len(mid), pooled_iou=round(inter / max(union, 1), 4),

@@ -178,8 +178,9 @@ def render_frame(
 
     points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m, tilt_rad=tilt)
     depth = None
-    if _knows_depth(type(flood)):
-        depth = flood.depth_on_affine_grid_m(points, t_s) if level else flood.depth_m(points, t_s)  # type: ignore[attr-defined]
+    if _knows_depth(type(flood)):  # a tilted footprint is not an affine grid: per-point depth
+        depth_of = flood.depth_on_affine_grid_m if level else flood.depth_m  # type: ignore[attr-defined]
+        depth = depth_of(points, t_s)
     water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)  # type: ignore[attr-defined]
     water = water_padded[m : m + h, m : m + w]
 

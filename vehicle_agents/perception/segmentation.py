@@ -183,7 +183,8 @@ def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], w
     if to_ground[2, 0] == 0.0 and to_ground[2, 1] == 0.0:
         both = project_pixels(to_ground, np.array([water_px[0], land_px[0]]), np.array([water_px[1], land_px[1]]))
         return both[0], both[1]
-    ground = cv2.perspectiveTransform(_pixel_centres(mask.shape[1], mask.shape[0]), to_ground).reshape(mask.shape + (2,))
+    centres = _pixel_centres(mask.shape[1], mask.shape[0])
+    ground = cv2.perspectiveTransform(centres, to_ground).reshape(mask.shape + (2,))
     m8 = mask.view(np.uint8)
     water = cv2.mean(ground, mask=m8)[:2]
     land = cv2.mean(ground, mask=cv2.bitwise_not(m8) & 1)[:2]

@@ -96,7 +96,8 @@ def test_cloud_shadows_drift_with_the_wind() -> None:
     still = CameraPose(vehicle_id=4)
     windy = CameraPose(vehicle_id=4, wind_en_mps=(6.0, 0.0))
     # At t = 0 the wind has moved nothing; 20 s later the field has moved 120 m in a 6 m/s wind.
-    np.testing.assert_array_equal(frame(spec, t_s=0.0, pose=still).image_bgr, frame(spec, t_s=0.0, pose=windy).image_bgr)
+    np.testing.assert_array_equal(frame(spec, t_s=0.0, pose=still).image_bgr,
+                                  frame(spec, t_s=0.0, pose=windy).image_bgr)
     assert not np.array_equal(frame(spec, t_s=20.0, pose=still).image_bgr, frame(spec, t_s=20.0, pose=windy).image_bgr)
 
 
