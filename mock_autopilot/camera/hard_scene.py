@@ -49,6 +49,9 @@ DEBRIS_PIECES = 420
 """Debris pieces per 51.2 m tile (a few per cent of the water covered)."""
 
 
+_SOIL_LUMINANCE = float(0.114 * SOIL_BGR[0] + 0.587 * SOIL_BGR[1] + 0.299 * SOIL_BGR[2])
+
+
 def _smoothstep(x: NDArray[np.float32]) -> NDArray[np.float32]:
     x = np.clip(x, 0.0, 1.0)
     return x * x * (3.0 - 2.0 * x)
@@ -60,20 +63,21 @@ def _luminance(image: NDArray[np.float32]) -> NDArray[np.float32]:
 
 def turbid_recolour(image: NDArray[np.float32], water_mask: NDArray[np.bool_], seed: int) -> NDArray[np.float32]:
     """Land becomes bare soil and water turbid tan, each keeping its own texture and shading (relative luminance)."""
-    rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x7B1E])
-    turbid = TURBID_BGR * np.float32(rng.uniform(*TURBID_BRIGHTNESS))
+    turbid = TURBID_BGR * np.float32(_turbid_brightness(seed))
     lum = _luminance(image)
-    out = image.copy()
-    land = ~water_mask
-    if land.any():
-        ratio = lum[land] / float(_luminance(SOIL_BGR.reshape(1, 1, 3))[0, 0])
-        soil = SOIL_BGR[None, :] * ratio[:, None]
-        out[land] = LAND_TO_SOIL * soil + (1.0 - LAND_TO_SOIL) * image[land]
-    if water_mask.any():
-        water_lum = lum[water_mask]
-        relative = 1.0 + TURBID_TEXTURE * (water_lum / max(float(water_lum.mean()), 1.0) - 1.0)
-        out[water_mask] = turbid[None, :] * relative[:, None]
-    return out
+    soil = cv2.merge([lum * np.float32(LAND_TO_SOIL * c / _SOIL_LUMINANCE) for c in SOIL_BGR])
+    land = cv2.addWeighted(image, 1.0 - LAND_TO_SOIL, soil, 1.0, 0.0)
+    if not water_mask.any():
+        return land
+    m8 = water_mask.view(np.uint8)
+    relative = lum * np.float32(TURBID_TEXTURE / max(cv2.mean(lum, mask=m8)[0], 1.0)) + np.float32(1.0 - TURBID_TEXTURE)
+    water = cv2.merge([relative * np.float32(c) for c in turbid])
+    return cv2.copyTo(water, m8, land)
+
+
+@lru_cache(maxsize=16)
+def _turbid_brightness(seed: int) -> float:
+    return float(np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x7B1E]).uniform(*TURBID_BRIGHTNESS))
 
 
 @lru_cache(maxsize=4)
@@ -90,11 +94,12 @@ def _shadow_threshold(seed: int, cover: float) -> float:
 
 def _sample_periodic(tile: NDArray[np.float32], points_en_m: NDArray[np.float64], resolution_m: float,
                      interpolation: int = cv2.INTER_LINEAR) -> NDArray[np.float32]:
-    """A world-anchored periodic tile sampled at each ground point (tile x = east, tile y = south)."""
-    n = tile.shape[0]
-    map_x = np.mod(points_en_m[..., 0] / resolution_m, n).astype(np.float32)
-    map_y = np.mod(-points_en_m[..., 1] / resolution_m, n).astype(np.float32)
-    return cv2.remap(tile, map_x, map_y, interpolation, borderMode=cv2.BORDER_WRAP)
+    """A world-anchored periodic tile sampled at each ground point (tile x = east, tile y = south). Coordinates are
+    taken relative to the tile period holding the first point, so they stay small; the tile wraps."""
+    period_m = tile.shape[0] * resolution_m
+    origin = np.floor(points_en_m[0, 0] / period_m) * period_m
+    local = ((points_en_m - origin) / resolution_m).astype(np.float32)
+    return cv2.remap(tile, local[..., 0], -local[..., 1], interpolation, borderMode=cv2.BORDER_WRAP)
 
 
 def cloud_shadow_gain(points_en_m: NDArray[np.float64], t_s: float, wind_en_mps: tuple[float, float], cover: float,
@@ -104,10 +109,11 @@ def cloud_shadow_gain(points_en_m: NDArray[np.float64], t_s: float, wind_en_mps:
         return np.broadcast_to(1.0 - SHADOW_LOSS_BGR, points_en_m.shape[:2] + (3,)).astype(np.float32)
     drift = np.asarray(wind_en_mps, float) * t_s
     field = _sample_periodic(_shadow_field(seed), points_en_m - drift, SHADOW_RESOLUTION_M)
-    shade = _smoothstep((field - _shadow_threshold(seed, cover)) / SHADOW_SOFT + 0.5)
-    return 1.0 - shade[..., None] * SHADOW_LOSS_BGR[None, None, :]
+    shade = _smoothstep((field - np.float32(_shadow_threshold(seed, cover))) * np.float32(1.0 / SHADOW_SOFT) + 0.5)
+    return cv2.merge([1.0 - shade * np.float32(loss) for loss in SHADOW_LOSS_BGR])
 
 
+@lru_cache(maxsize=16)
 def sun_direction(seed: int) -> tuple[float, float]:
     """(zenith [rad], azimuth clockwise from north [rad]) of the mission's sun."""
     rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x5A11])
@@ -120,9 +126,15 @@ def glint_layer(points_en_m: NDArray[np.float64], position_en_m: tuple[float, fl
     zenith, azimuth = sun_direction(seed)
     reach = height_m * math.tan(zenith)
     centre = np.array([position_en_m[0] + reach * math.sin(azimuth), position_en_m[1] + reach * math.cos(azimuth)])
-    d2 = ((points_en_m - centre) ** 2).sum(axis=-1) / max(height_m, 0.1) ** 2
-    envelope = np.exp(-0.5 * d2 / GLINT_SPREAD_RAD**2).astype(np.float32)
-    h, w = envelope.shape
+    h, w = points_en_m.shape[:2]
+    reach_m = 4.0 * GLINT_SPREAD_RAD * max(height_m, 0.1)
+    corners = points_en_m[[0, 0, -1, -1], [0, -1, 0, -1]]
+    half_diagonal = 0.5 * float(np.hypot(*(corners[0] - corners[3])))
+    if float(np.hypot(*(points_en_m[h // 2, w // 2] - centre))) > half_diagonal + reach_m:
+        return np.zeros((h, w), np.float32)  # the glint is out of view
+    offset = (points_en_m - centre).astype(np.float32)
+    d2 = cv2.add(cv2.multiply(offset[..., 0], offset[..., 0]), cv2.multiply(offset[..., 1], offset[..., 1]))
+    envelope = cv2.exp(d2 * np.float32(-0.5 / (GLINT_SPREAD_RAD * max(height_m, 0.1)) ** 2))
     rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, int(vehicle_id) & 0xFFFFFFFF,
                                  int(round(t_s * 1000.0)) & 0xFFFFFFFF, 0x611D])
     sparkle = rng.random(((h + 1) // 2, (w + 1) // 2), dtype=np.float32) ** 4
@@ -131,8 +143,8 @@ def glint_layer(points_en_m: NDArray[np.float64], position_en_m: tuple[float, fl
 
 
 @lru_cache(maxsize=4)
-def _debris_tile(seed: int) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    """(colour (N, N, 3), opacity (N, N)) of the debris over one periodic tile."""
+def _debris_tile(seed: int) -> NDArray[np.float32]:
+    """(N, N, 4) colour (B, G, R) and opacity of the debris over one periodic tile."""
     rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0xDEB2])
     n = DEBRIS_TILE_PX
     colour = np.zeros((n, n, 3), np.float32)
@@ -150,11 +162,10 @@ def _debris_tile(seed: int) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
                 at = (centre[0] + dx, centre[1] + dy)
                 cv2.ellipse(colour, at, axes, angle, 0, 360, bgr, -1)
                 cv2.ellipse(alpha, at, axes, angle, 0, 360, 1.0, -1)
-    return colour, alpha
+    return cv2.merge([*cv2.split(colour), alpha])
 
 
 def debris_layer(points_en_m: NDArray[np.float64], seed: int) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """(colour (H, W, 3), opacity (H, W)) of the floating debris at each ground point."""
-    colour, alpha = _debris_tile(seed)
-    return (_sample_periodic(colour, points_en_m, DEBRIS_RESOLUTION_M, cv2.INTER_NEAREST),
-            _sample_periodic(alpha, points_en_m, DEBRIS_RESOLUTION_M, cv2.INTER_NEAREST))
+    layer = _sample_periodic(_debris_tile(seed), points_en_m, DEBRIS_RESOLUTION_M, cv2.INTER_NEAREST)
+    return layer[..., :3], np.ascontiguousarray(layer[..., 3])

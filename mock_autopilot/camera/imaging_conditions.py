@@ -69,14 +69,15 @@ def apply_imaging(image_bgr: NDArray[np.uint8], water_mask: NDArray[np.bool_], s
         image = turbid_recolour(image, water_mask, frame.seed)
     if spec.floating_debris and water_mask.any():
         colour, alpha = debris_layer(frame.ground_points_en_m, frame.seed)
-        alpha = alpha * water_mask
-        image += (colour - image) * alpha[..., None]
+        cover = cv2.bitwise_and(cv2.compare(alpha, 0.5, cv2.CMP_GT), water_mask.view(np.uint8) * np.uint8(255))
+        image = cv2.copyTo(colour, cover, image)
     if spec.cloud_shadow_cover > 0.0:
         image *= cloud_shadow_gain(frame.ground_points_en_m, frame.t_s, frame.wind_en_mps, spec.cloud_shadow_cover,
                                    frame.seed)
     if spec.sun_glint and water_mask.any():
-        image += glint_layer(frame.ground_points_en_m, frame.position_en_m, frame.height_m, frame.t_s, frame.seed,
-                             frame.vehicle_id)[..., None] * water_mask[..., None]
+        glint = glint_layer(frame.ground_points_en_m, frame.position_en_m, frame.height_m, frame.t_s, frame.seed,
+                            frame.vehicle_id)
+        image = cv2.add(image, cv2.merge([glint, glint, glint]), mask=water_mask.view(np.uint8), dst=image.copy())
     if spec.exposure_time_s > 0.0:
         image = _motion_blur(image, frame, spec.exposure_time_s)
     gain = np.ones(3, np.float32)
@@ -89,8 +90,7 @@ def apply_imaging(image_bgr: NDArray[np.uint8], water_mask: NDArray[np.bool_], s
         image *= _vignette(image.shape[1], image.shape[0], spec.vignetting)[..., None]
     if spec.noise_sigma > 0.0:
         image += np.float32(spec.noise_sigma) * _noise(frame, image.shape)
-    out = np.clip(image, 0.0, 255.0)
-    out = np.rint(out).astype(np.uint8)
+    out = cv2.convertScaleAbs(cv2.max(image, 0.0))
     if spec.jpeg_quality > 0:
         ok, encoded = cv2.imencode(".jpg", out, [cv2.IMWRITE_JPEG_QUALITY, int(spec.jpeg_quality)])
         if ok:
@@ -105,11 +105,17 @@ def _frame_rng(frame: FrameInputs, tag: int) -> np.random.Generator:
                                   t_ms & 0xFFFFFFFF, tag])
 
 
+@lru_cache(maxsize=256)
+def _drift_shape(seed: int, vehicle_id: int, channel: int) -> tuple[float, float, float]:
+    """(phase of the slow sinusoid, phase of the fast one, weight of the slow one) for one drift."""
+    rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, int(vehicle_id) & 0xFFFFFFFF, channel, 0xD41F])
+    phase = rng.uniform(0.0, 2.0 * math.pi, 2)
+    return float(phase[0]), float(phase[1]), float(rng.uniform(0.3, 0.7))
+
+
 def _drift(frame: FrameInputs, channel: int) -> float:
     """A slow seeded drift in [-1, 1] per (seed, vehicle, channel): two sinusoids of random phase and weight."""
-    rng = np.random.default_rng([int(frame.seed) & 0xFFFFFFFF, int(frame.vehicle_id) & 0xFFFFFFFF, channel, 0xD41F])
-    phase = rng.uniform(0.0, 2.0 * math.pi, 2)
-    weight = rng.uniform(0.3, 0.7)
+    *phase, weight = _drift_shape(frame.seed, frame.vehicle_id, channel)
     slow, fast = (math.sin(2.0 * math.pi * frame.t_s / period + p) for period, p in zip(DRIFT_PERIODS_S, phase))
     return float(weight * slow + (1.0 - weight) * fast)
 
