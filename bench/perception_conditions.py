@@ -3,6 +3,7 @@ presets' mixes, on a seed set used while developing or on a held-out one; writes
 
     .venv/bin/python -m bench.perception_conditions [--frames 300] [--set heldout|dev] [--conditions a,b]
                                                     [--markdown FILE]
+    .venv/bin/python -m bench.perception_conditions --timing 300      # CPU per frame, clean / tilted / presets
 
 Each condition is one ``[imaging]`` key switched on alone (at its ``rough`` value), ``tilt`` a level-less camera
 (roll and pitch drawn up to ±15°, given to perception as ATTITUDE reports it), ``moderate`` / ``rough`` the presets'
@@ -125,6 +126,32 @@ def score_condition(name: str, spec: ImagingSpec, max_tilt_deg: float, floods: l
         perceive_cpu_ms_p50=round(float(np.median(cpu)) * 1e3, 3))
 
 
+def time_imaging(flood_name: str, frames: int, camera: CameraModel = CameraModel()) -> list[str]:
+    """Thread CPU time p50 of render and of perceive per frame, clean, tilted, and under the presets' imaging keys
+    (one process, the same poses for every row, so the ratios hold on a loaded machine)."""
+    flood = flood_named(flood_name, seed=1)
+    plan = poses(flood, frames, 10.0, seed=5)
+    rows = []
+    for label, spec, tilt_deg in (("clean", ImagingSpec(), 0.0), ("clean, tilted 5 deg", ImagingSpec(), 5.0),
+                                  ("moderate", MODERATE, 0.0), ("rough", ROUGH, 0.0)):
+        tilt = (math.radians(tilt_deg), -math.radians(tilt_deg))
+        pose = CameraPose(tilt_rad=tilt, vehicle_id=2, velocity_en_mps=(3.0, 1.0), wind_en_mps=(5.0, 0.0))
+        render_frame(flood, plan[0][0], plan[0][1], plan[0][2], camera, 1, pose=pose, imaging=spec)
+        render_cpu, perceive_cpu = [], []
+        for t_s, position, yaw in plan:
+            a = time.thread_time()
+            frame = render_frame(flood, t_s, position, yaw, camera, 1, pose=pose, imaging=spec)
+            b = time.thread_time()
+            perceive(frame.image_bgr, height_m(flood, position), camera.fov_deg, yaw, roll_rad=tilt[0],
+                     pitch_rad=tilt[1])
+            render_cpu.append(b - a)
+            perceive_cpu.append(time.thread_time() - b)
+        r, p = float(np.median(render_cpu)) * 1e3, float(np.median(perceive_cpu)) * 1e3
+        both = float(np.median(np.add(render_cpu, perceive_cpu))) * 1e3
+        rows.append(f"| {flood_name} | {label} | {r:.2f} ms | {p:.2f} ms | {both:.2f} ms |")
+    return rows
+
+
 def markdown_table(scores: list[ConditionScore]) -> str:
     lines = ["| condition | frames (with edge) | pooled water IoU | midpoint error p95 / max [m] | wrong flags "
              "| perceive CPU p50 [ms] |", "|---|---|---|---|---|---|"]
@@ -142,12 +169,20 @@ def main() -> None:
     parser.add_argument("--conditions", default=",".join(CONDITIONS))
     parser.add_argument("--floods", default=",".join(ACCURACY_FLOODS),
                         help="flood models of camera.truth, or bundled scenarios (breach, river, pluvial)")
+    parser.add_argument("--timing", type=int, default=0,
+                        help="instead of accuracy: CPU time per frame over this many poses (circle and hydro)")
     parser.add_argument("--markdown", default=None,
                         help="put the table into this file between its table markers (docs/PERCEPTION.md)")
     args = parser.parse_args()
     seeds = HELD_OUT if args.seed_set == "heldout" else DEV
     floods = [f for f in args.floods.split(",") if f]
     print(machine())
+    if args.timing:
+        print("| flood | imaging | render CPU p50 | perceive CPU p50 | render + perceive |\n|---|---|---|---|---|")
+        for flood_name in ("circle", "hydro"):
+            print("\n".join(time_imaging(flood_name, args.timing)), flush=True)
+        print(machine())
+        return
     scores = []
     for name in (c for c in args.conditions.split(",") if c):
         spec, tilt = CONDITIONS[name]
