@@ -1,22 +1,22 @@
-"""Which pixels of a downward frame are water, learnt afresh in every frame (no fixed colour of water).
+"""Which pixels of a downward frame are water, without a fixed colour of water.
 
-Two physical cues, neither of them "water is blue":
+Three physical cues:
 
+- **Water under a blue sky is bluer than grey**, vegetation and soil yellower: the blueness ``B − (G + R)/2``
+  (tried first; it is exact where it applies and costs one transform).
 - **Water is smoother than land.** A water surface is flat; soil, grass and crops have texture at the scale of a
   few centimetres. The local coefficient of variation of the brightness (standard deviation over mean in a small
   window) measures it and does not change with exposure, shadow or white balance, which scale a region's pixels
   alike.
-- **Water is less saturated than the land beside it.** Its surface mirrors the sky, which adds a grey-blue
-  component to whatever colour the water carries (clear, murky or silt-laden tan), so the normalised blue
-  chromaticity ``B / (B + G + R)`` of water lies above that of the vegetation or soil it borders. Chromaticity
-  does not change with exposure or shadow depth.
+- **Water is less saturated than the land beside it.** Its surface mirrors the sky, which adds a grey component to
+  whatever colour the water carries (murky or silt-laden tan), so the normalised blue chromaticity
+  ``B / (B + G + R)`` of water lies above that of the soil it borders.
 
-Each frame: Otsu's method splits the chromaticity into two candidate classes, the threshold is moved half-way
-between the two class means (Otsu leans to the larger class when the other is a small corner), and the split is
-accepted as water/land only when the two classes differ in texture as water and land do (the smoother class is
-the water); a split inside the land (grass against dry grass, sun against cloud shadow) has no such contrast and
-the frame is one class, water if its texture is that of water. Small specks are removed by an opening and
-floating debris (rough specks inside the water) by a closing.
+A frame without blue water is split by Otsu's method on the two last cues standardised over the frame and combined
+(texture weighted most), and the split is accepted only when the smoother class is clearly smoother (a split
+inside the land, soil against soil or sun against cloud shadow, has no such contrast); otherwise the frame is one
+class, water if its texture is that of water. Small specks are removed by an opening and floating debris (rough
+specks inside the water) by a closing.
 """
 
 from __future__ import annotations
@@ -25,11 +25,9 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-MIN_CHROMA_SEPARATION = 0.006
-"""The two chromaticity classes must differ by this much in mean ``B / (B + G + R)`` to be two kinds of ground."""
 MIN_TEXTURE_CONTRAST = 0.5
-"""The less saturated class must be smoother than the other by this much in mean log local coefficient of
-variation (a factor 1.6) to be water beside land."""
+"""The water class must be smoother than the land class by this much in mean log local coefficient of variation
+(a factor 1.6)."""
 WATER_TEXTURE_MAX = -3.5
 """A one-class frame whose mean log local coefficient of variation is below this is water (smooth)."""
 NEUTRAL_BLUENESS = 128.0
@@ -39,11 +37,17 @@ MAX_THRESHOLD_SHIFT = 16.0
 MIN_BLUENESS_SEPARATION = 10.0
 """Otsu's two blueness classes must differ by this much in mean [DN] to be two kinds of ground."""
 TEXTURE_WINDOW_PX = 7
-"""Side of the window the local coefficient of variation is taken over [px]."""
+"""Side of the window the local coefficient of variation is taken over for a one-class frame [px]."""
+FINE_TEXTURE_WINDOW_PX = 3
+"""The grey-water split's texture: the coefficient of variation over 3x3 pixels (sharp at the shore) ..."""
+FINE_TEXTURE_BLUR_PX = 5
+"""... averaged over 5x5 (steady inside each class)."""
+TEXTURE_WEIGHT = 5.0
+"""Weight of the standardised texture against the standardised chromaticity in the grey-water score."""
 CHROMA_SCALE = 1024.0
-"""Chromaticity to 8 bits for Otsu's histogram: ``B / (B + G + R)`` of 0.0-0.25 spans the 256 levels... and is
-clipped beyond (water and land both lie within 0.1-0.45; the offset below centres that range)."""
 CHROMA_OFFSET = 0.2
+"""Chromaticity to 8 bits: ``(B / (B + G + R) − 0.2) · 1024``, so 0.2-0.45 spans the 256 levels (soil and turbid
+water lie near 0.23-0.27), clipped beyond."""
 _KERNEL3 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 _KERNEL5 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
 _SUM_ROW = np.array([[1.0, 1.0, 1.0]], np.float32)
@@ -59,10 +63,10 @@ def chromaticity_8u(image_bgr: NDArray[np.uint8]) -> NDArray[np.uint8]:
     return cv2.convertScaleAbs(ratio, alpha=CHROMA_SCALE, beta=-CHROMA_OFFSET * CHROMA_SCALE)
 
 
-def log_texture(image_bgr: NDArray[np.uint8]) -> NDArray[np.float32]:
-    """Log of the local coefficient of variation of the brightness over ``TEXTURE_WINDOW_PX`` windows."""
+def log_texture(image_bgr: NDArray[np.uint8], window_px: int = TEXTURE_WINDOW_PX) -> NDArray[np.float32]:
+    """Log of the local coefficient of variation of the brightness over ``window_px`` windows."""
     grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY).astype(np.float32)
-    k = (TEXTURE_WINDOW_PX, TEXTURE_WINDOW_PX)
+    k = (window_px, window_px)
     mean = cv2.blur(grey, k)
     square = cv2.blur(cv2.multiply(grey, grey), k)
     variance = cv2.max(cv2.subtract(square, cv2.multiply(mean, mean)), 0.25)
@@ -114,37 +118,35 @@ def _blue_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None,
 
 
 def _grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
-    """Water that is not blue (silt-laden, grey sky): less saturated and smoother than the land beside it."""
-    chroma = chromaticity_8u(image_bgr)
+    """Water that is not blue (silt-laden, grey sky): smoother and less saturated than the land beside it. Both
+    cues are standardised over the frame and combined, texture weighted ``TEXTURE_WEIGHT`` times chromaticity (the
+    more reliable cue where soil and water have nearly one colour); Otsu splits the combined score."""
     texture = log_texture(image_bgr)
-    otsu, binary = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    fine = cv2.blur(log_texture(image_bgr, FINE_TEXTURE_WINDOW_PX), (FINE_TEXTURE_BLUR_PX, FINE_TEXTURE_BLUR_PX))
+    chroma = chromaticity_8u(image_bgr).astype(np.float32)
+    (c_mean,), (c_std,) = cv2.meanStdDev(chroma)
+    (t_mean,), (t_std,) = cv2.meanStdDev(fine)
+    score = (chroma - np.float32(c_mean[0])) * np.float32(1.0 / (c_std[0] + 1e-6))
+    score -= (fine - np.float32(t_mean[0])) * np.float32(TEXTURE_WEIGHT / (t_std[0] + 1e-6))
+    score8 = cv2.normalize(score, None, 0, 255, cv2.NORM_MINMAX, cv2.CV_8U)
+    threshold, binary = cv2.threshold(score8, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
     n = binary.size
     n_high = cv2.countNonZero(binary)
-    if n_high == 0 or n_high == n:
-        return _one_class(chroma, texture)
-    mean_all = cv2.mean(chroma)[0]
-    mean_high = cv2.mean(chroma, mask=binary)[0]
-    mean_low = (mean_all * n - mean_high * n_high) / (n - n_high)
-    if (mean_high - mean_low) / CHROMA_SCALE < MIN_CHROMA_SEPARATION:
-        return _one_class(chroma, texture)
-    threshold = 0.5 * (mean_low + mean_high)
-    _, binary = cv2.threshold(chroma, threshold, 1, cv2.THRESH_BINARY)
-    n_high = cv2.countNonZero(binary)
     if n_high in (0, n):
-        return _one_class(chroma, texture)
-    tex_all = cv2.mean(texture)[0]
-    tex_high = cv2.mean(texture, mask=binary)[0]
+        return _one_class(score8, texture)
+    tex_all = cv2.mean(fine)[0]
+    tex_high = cv2.mean(fine, mask=binary)[0]
     tex_low = (tex_all * n - tex_high * n_high) / (n - n_high)
     if tex_low - tex_high < MIN_TEXTURE_CONTRAST:
-        return _one_class(chroma, texture)
+        return _one_class(score8, texture)
     binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, _KERNEL3)
     binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, _KERNEL5)
-    return binary.view(bool), chroma, float(threshold)
+    return binary.view(bool), score8, float(threshold)
 
 
 def _one_class(chroma: NDArray[np.uint8], texture: NDArray[np.float32]) -> tuple[None, NDArray[np.uint8], float]:
     """A frame of one kind of ground: water when it is smooth. The threshold returned puts the frame's mean
-    chromaticity above it for water and below it for land."""
+    score above it for water and below it for land."""
     mean = float(cv2.mean(chroma)[0])
     water = cv2.mean(texture)[0] < WATER_TEXTURE_MAX
     return None, chroma, mean - 1.0 if water else mean + 1.0
