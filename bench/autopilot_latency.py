@@ -18,8 +18,8 @@ import time
 import numpy as np
 from pymavlink.dialects.v20 import common as mavlink
 
+from comms.px4 import Px4Mode
 from mock_autopilot.fleet import Fleet
-from mock_autopilot.px4_modes import Px4Mode
 
 
 def measure(samples: int, vehicles: int, rate_hz: float, base_port: int) -> dict[str, float]:

@@ -27,13 +27,14 @@ from comms.messages import (  # noqa: E402
     encode,
     flood_polygon_from_enu,
 )
+from mission_plan.roles import Role  # noqa: E402
 
 
 def _samples() -> list[tuple[str, object]]:
     rng = np.random.default_rng(0)
-    minimal = NeighbourState(sender_id=3, role="follower", seq=1234, t_s=12.5, position_en_m=(3.2, -7.9), altitude_m=10.0,
+    minimal = NeighbourState(sender_id=3, role=Role.FOLLOWER, seq=1234, t_s=12.5, position_en_m=(3.2, -7.9), altitude_m=10.0,
                              velocity_en_mps=(0.4, 0.1))
-    boundary = NeighbourState(sender_id=3, role="boundary", seq=1234, t_s=12.5, position_en_m=(13.2, -2.9), altitude_m=10.0,
+    boundary = NeighbourState(sender_id=3, role=Role.BOUNDARY, seq=1234, t_s=12.5, position_en_m=(13.2, -2.9), altitude_m=10.0,
                               velocity_en_mps=(0.4, 0.9), lat_deg=47.39, lon_deg=8.54, flags=0b1111, battery_fraction=0.9,
                               group="A", edge_points_en_m=[tuple(p) for p in rng.uniform(-20, 20, (32, 2)).tolist()])
     truth = GroundTruth(t_s=1.0, vehicle_ids=list(range(300)), positions_enu_m=[tuple(p) for p in rng.uniform(-50, 50, (300, 3)).tolist()],

@@ -8,9 +8,13 @@ Three processes on loopback, as in a mission:
   message ``rx time - source time`` (both ``time.monotonic()``: one clock on one machine).
 
 Drones sit on a square grid with ``--spacing-m`` (default 10 m, d in the paper) and radio range 25 m, so an interior
-drone has ~20 neighbours in range. Run:
+drone has ~20 neighbours in range. The emulator's CPU per 1000 deliveries is taken between two of its own
+``radio/stats`` reports (its delivered count) and the CPU read as each arrives. ``--tree LABEL=PATH`` runs the
+emulator of another checkout (e.g. ``git archive main | tar -x -C /tmp/before``) in the same run, alternating
+with this one per drone count, so a before/after comparison shares the machine's load. Run:
 
     .venv/bin/python bench/comms_radio.py --drones 13 100 300 --duration-s 10
+    .venv/bin/python bench/comms_radio.py --drones 300 --tree before=/tmp/before --tree after=.
 """
 
 from __future__ import annotations
@@ -33,9 +37,11 @@ import msgspec  # noqa: E402
 import numpy as np  # noqa: E402
 
 from comms.keys import MissionKeys  # noqa: E402
-from comms.messages import GroundTruth, NeighbourState, RadioBundle, encode  # noqa: E402
+from comms.latest_buffer import LatestValueBuffer  # noqa: E402
+from comms.messages import GroundTruth, NeighbourState, RadioBundle, RadioLinkStats, decode, encode  # noqa: E402
 from comms.radio_model import RadioModel  # noqa: E402
 from comms.zenoh_session import ZenohConfig, ZenohSession  # noqa: E402
+from mission_plan.roles import Role  # noqa: E402
 
 RATE_HZ = 20.0
 
@@ -96,15 +102,27 @@ def receiver(hub: str, mission: str, duration_s: float, sample_every: int) -> in
     return 0
 
 
-def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latency_s: float, tick_s: float, hub: str) -> dict:
+def delivered_so_far(stats: LatestValueBuffer) -> int | None:
+    """The emulator's delivered count from its newest ``radio/stats`` report since the last call (None: none yet)."""
+    delivered = None
+    for item in stats.drain():
+        report = decode(RadioLinkStats, item.payload)
+        if report is not None:
+            delivered = report.delivered
+    return delivered
+
+
+def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latency_s: float, tick_s: float, hub: str,
+            tree: Path = REPO) -> dict:
     mission = f"bench{n}"
     keys = MissionKeys(mission)
     positions = grid_positions(n, spacing_m)
     neighbours = RadioModel(25.0).in_range(positions).sum(axis=1)
-    env = dict(os.environ, PYTHONPATH=str(REPO))
+    env = dict(os.environ, PYTHONPATH=str(tree))
     with ZenohSession(ZenohConfig.hub(hub)) as session:
+        stats = session.subscribe(keys.radio_stats)
         radio = subprocess.Popen([sys.executable, "-m", "comms.radio", "--mission", mission, "--range-m", "25",
-                                  "--latency-s", str(latency_s), "--tick-s", str(tick_s), "--connect", hub], cwd=REPO, env=env,
+                                  "--latency-s", str(latency_s), "--tick-s", str(tick_s), "--connect", hub], cwd=tree, env=env,
                                  stderr=subprocess.PIPE, text=True)
         rx = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--hub", hub, "--mission", mission,
                                "--duration-s", str(duration_s + warmup_s + 30),
@@ -124,6 +142,7 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
             seq = np.zeros(n, dtype=np.int64)
             cpu0 = None
             t_measure = 0.0
+            window: list[tuple[int, float, float]] = []  # (delivered, radio CPU s, time) at each stats report in the window
             sent_measured = 0
             end = start + warmup_s + duration_s
             while True:
@@ -133,13 +152,18 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
                 if cpu0 is None and now >= start + warmup_s:
                     cpu0, t_measure = cpu_seconds(radio.pid), now
                     sent_at_measure = int(seq.sum())
+                    delivered_so_far(stats)
+                if cpu0 is not None:
+                    delivered = delivered_so_far(stats)
+                    if delivered is not None:
+                        window.append((delivered, cpu_seconds(radio.pid), now))
                 if now >= next_truth:
                     session.put(keys.truth, truth_payload(now))
                     next_truth += period
                 for i in np.flatnonzero(next_send <= now).tolist():
                     t = time.monotonic()
                     session.put(state_keys[i], encode(NeighbourState(
-                        sender_id=i, role="boundary", seq=int(seq[i]), t_s=t, position_en_m=(float(positions[i, 0]), float(positions[i, 1])),
+                        sender_id=i, role=Role.BOUNDARY, seq=int(seq[i]), t_s=t, position_en_m=(float(positions[i, 0]), float(positions[i, 1])),
                         altitude_m=10.0, velocity_en_mps=(0.0, 0.0))))
                     seq[i] += 1
                     next_send[i] += period
@@ -158,8 +182,12 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
     # discard the warm-up share of the samples (first warmup/(warmup+duration) of the run)
     lat = lat[int(len(lat) * warmup_s / (warmup_s + duration_s)):]
     delivered = int(radio_err.split("delivered ")[1].split(",")[0]) if "delivered " in radio_err else 0
+    window_deliveries = window[-1][0] - window[0][0] if len(window) >= 2 else 0
     return {
+        "tree": str(tree),
         "drones": n,
+        "radio_cpu_ms_per_1000": 1e6 * (window[-1][1] - window[0][1]) / window_deliveries if window_deliveries else float("nan"),
+        "window_deliveries_per_s": window_deliveries / (window[-1][2] - window[0][2]) if window_deliveries else 0.0,
         "deliveries_per_s": delivered / (duration_s + warmup_s),
         "mean_neighbours": float(neighbours.mean()),
         "states_per_s": sent_measured / (t_end - t_measure),
@@ -186,16 +214,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--hub", default="tcp/127.0.0.1:24447")
     parser.add_argument("--mission", default="bench")
     parser.add_argument("--sample-every", type=int, default=1, help="receiver role: time every k-th receiver")
+    parser.add_argument("--tree", action="append", default=[], metavar="LABEL=PATH",
+                        help="run the emulator of this checkout (repeatable: alternated per drone count; default: this one)")
     args = parser.parse_args(argv)
     if args.role == "receiver":
         return receiver(args.hub, args.mission, args.duration_s, args.sample_every)
-    print("| drones | mean neighbours | states in /s | deliveries /s | inbox bundles /s | radio CPU % of one core | latency p50 ms | p99 ms |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
+    trees = [(label, Path(path).resolve()) for label, _, path in (t.partition("=") for t in args.tree)] or [("this", REPO)]
+    print("| emulator | drones | mean neighbours | states in /s | deliveries /s | inbox bundles /s | radio CPU % of one core "
+          "| radio CPU ms per 1000 deliveries | latency p50 ms | p99 ms |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n in args.drones:
-        r = run_one(n, args.duration_s, args.warmup_s, args.spacing_m, args.latency_s, args.tick_s, args.hub)
-        print(f"| {r['drones']} | {r['mean_neighbours']:.1f} | {r['states_per_s']:.0f} | {r['deliveries_per_s']:.0f} | {r['bundles_per_s']:.0f} | "
-              f"{r['radio_cpu_pct']:.0f} | {r['p50_ms']:.2f} | {r['p99_ms']:.2f} |", flush=True)
-        print(f"<!-- {json.dumps({k: v for k, v in r.items()})} -->", flush=True)
+        for label, tree in trees:
+            r = run_one(n, args.duration_s, args.warmup_s, args.spacing_m, args.latency_s, args.tick_s, args.hub, tree)
+            print(f"| {label} | {r['drones']} | {r['mean_neighbours']:.1f} | {r['states_per_s']:.0f} | {r['deliveries_per_s']:.0f} | "
+                  f"{r['bundles_per_s']:.0f} | {r['radio_cpu_pct']:.0f} | {r['radio_cpu_ms_per_1000']:.2f} | {r['p50_ms']:.2f} | "
+                  f"{r['p99_ms']:.2f} |", flush=True)
+            print(f"<!-- {json.dumps({k: v for k, v in r.items()})} -->", flush=True)
     return 0
 
 

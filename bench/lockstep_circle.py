@@ -13,6 +13,7 @@ import numpy as np
 
 from gcs.lockstep import engine
 from gcs.scenario import load_scenario
+from mission_plan.roles import Role
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import render_frame
 from vehicle_agents.perception.segmentation import perceive
@@ -38,7 +39,7 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--set", dest="overrides", action="append", default=[])
-    parser.add_argument("--cameras", choices=("all", "boundary"), default="all",
+    parser.add_argument("--cameras", choices=("all", Role.BOUNDARY.value), default="all",
                         help="whose camera is rendered and segmented at every frame (default: every vehicle's)")
     ns = parser.parse_args()
     scenario = load_scenario("circle", ns.overrides)

@@ -16,6 +16,7 @@ import math
 
 from gcs.lockstep.engine import run_lockstep
 from gcs.scenario import load_scenario
+from mission_plan.roles import Role
 
 
 def scaled_overrides(per_group: int) -> list[str]:
@@ -38,7 +39,7 @@ def main() -> None:
     parser.add_argument("--sim", type=float, default=10.0)
     parser.add_argument("--sizes", type=int, nargs="*", default=[4, 8, 12, 16, 24])
     parser.add_argument("--mode", default="improved")
-    parser.add_argument("--cameras", choices=("all", "boundary"), default="all",
+    parser.add_argument("--cameras", choices=("all", Role.BOUNDARY.value), default="all",
                         help="whose camera is rendered and segmented at every frame (default: every vehicle's)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="scenario override applied after the scaling, e.g. control_rate_hz=10")

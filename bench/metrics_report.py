@@ -21,6 +21,7 @@ from gcs.metrics import compute_mission_metrics  # noqa: E402
 from gcs.metrics.synthetic_record import synthetic_circle_record  # noqa: E402
 from gcs.polygon import caged_polygon  # noqa: E402
 from gcs.report import write_mission_outputs  # noqa: E402
+from mission_plan.roles import Role
 from mock_autopilot.world.flood_model import ExpandingCircle  # noqa: E402
 
 
@@ -45,7 +46,7 @@ def main() -> int:
         t_metrics = best_of(3, lambda: compute_mission_metrics(record, flood, 60.0))
         metrics = compute_mission_metrics(record, flood, 60.0)
         last = -1
-        boundary = [i for i, r in enumerate(record.roles) if r == "boundary"]
+        boundary = [i for i, r in enumerate(record.roles) if r == Role.BOUNDARY]
         positions = record.positions_enu_m[last, boundary, :2]
         rng = np.random.default_rng(0)
         edges = []

@@ -5,8 +5,13 @@ Wire formats:
 * every message except the flood polygon is a MessagePack map (msgspec ``Struct``), self-describing so that any
   Zenoh client in any language can read the public keys; the ``schema`` field names the type and its version
   (``"fw/state/1"``) and is checked on decode;
-* the flood polygon is a GeoJSON Feature (RFC 7946: WGS84 ``[lon, lat]``, counter-clockwise outer ring) encoded as
-  UTF-8 JSON, so the rescue centre can use it without our code; its version is ``properties.schema``.
+* the flood polygon is a GeoJSON Feature (:mod:`comms.flood_polygon`) encoded as UTF-8 JSON, so the rescue centre
+  can use it without our code; its version is ``properties.schema``.
+
+The paced clock's messages live in :mod:`comms.pace_messages`, the polygon in :mod:`comms.flood_polygon`, the
+links' own reports (radio bundles and statistics, peers, dropped forgeries) in :mod:`comms.link_messages`, the checks
+every schema shares in :mod:`comms.message_checks`; this module holds the rest and the one codec for them all, and
+names every message type (``from comms.messages import PaceReport`` works for all of them).
 
 ``decode`` never raises: bad input (malformed, truncated, oversized, wrong version, non-finite numbers) returns
 None and is counted in a ``DecodeStats`` (by kind and reason), as SPEC §7 asks for every socket.
@@ -20,20 +25,20 @@ from __future__ import annotations
 import math
 import threading
 from collections import Counter
-from collections.abc import Iterable, Sequence
 from typing import Annotated, Any, Literal, TypeVar, Union
 
 import msgspec
 import numpy as np
-from numpy.typing import ArrayLike
 
-from comms.frames import GeodeticHome, enu_to_geodetic
+from comms.flood_polygon import FloodPolygon, FloodPolygonProperties, GeoJsonPolygon  # noqa: F401 (named here too)
+from comms.flood_polygon import flood_polygon_from_enu  # noqa: F401 (named here too)
 from comms.gcs_status import FloodEdgeTruth, MissionEvent, OperatorRequest, VehicleStatusReport
+from comms.link_messages import PeerEvent, RadioBundle, RadioLinkStats, SecurityEvent
+from comms.message_checks import InvalidMessage, Point2, Point3, finite, finite_points
+from comms.pace_messages import CameraStats, PaceAck, PaceReport, ParticipantPace, SimClockTick  # noqa: F401
+from mission_plan.roles import Role
 
-Role = Literal["boundary", "leader", "follower"]
 Group = Literal["A", "B", ""]
-Point2 = tuple[float, float]
-Point3 = tuple[float, float, float]
 
 MAX_EDGE_POINTS = 256
 MAX_RELAYED = 64
@@ -49,20 +54,6 @@ FLAG_LEADING = 1 << 6  # the leading drone of its boundary group (the one that m
 FLAG_FAILSAFE = 1 << 7
 FLAG_LEAVING = 1 << 8  # the agent is leaving the swarm (vehicle lost, landing): neighbours should drop it
 FLAG_LOW_BATTERY = 1 << 9
-
-
-class InvalidMessage(ValueError):
-    """A message that breaks a schema check (NaN position, negative id, ...). Raised when such a message is
-    constructed (a sender bug surfaces at the sender); on receipt ``decode`` turns it into None + ``invalid``."""
-
-
-def _finite(*values: float) -> bool:
-    return all(math.isfinite(v) for v in values)
-
-
-def _finite_points(points: Iterable[Sequence[float]]) -> bool:
-    """All coordinates finite (one C-level sum: NaN and inf propagate through it)."""
-    return math.isfinite(sum(map(sum, points)))
 
 
 class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/state/1"):
@@ -109,7 +100,7 @@ class NeighbourState(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
         for optional in (self.lat_deg, self.lon_deg, self.battery_fraction):
             if optional is not None and not math.isfinite(optional):
                 raise InvalidMessage("non-finite optional field (send None instead)")
-        if self.edge_points_en_m and not _finite_points(self.edge_points_en_m):
+        if self.edge_points_en_m and not finite_points(self.edge_points_en_m):
             raise InvalidMessage("non-finite edge point")
 
     def has(self, flag: int) -> bool:
@@ -182,7 +173,7 @@ class CameraFrame(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
     image: bytes
 
     def __post_init__(self) -> None:
-        if not _finite(self.t_s, self.altitude_m, self.yaw_ned_rad, self.fov_deg):
+        if not finite(self.t_s, self.altitude_m, self.yaw_ned_rad, self.fov_deg):
             raise InvalidMessage("non-finite pose")
         if not (0 < self.width_px <= 8192 and 0 < self.height_px <= 8192):
             raise InvalidMessage("bad image size")
@@ -199,7 +190,7 @@ class BoundaryEdgePoints(msgspec.Struct, frozen=True, omit_defaults=True, tag_fi
     points_en_m: Annotated[list[Point2], msgspec.Meta(max_length=4096)]
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.t_s) and _finite_points(self.points_en_m)):
+        if not (math.isfinite(self.t_s) and finite_points(self.points_en_m)):
             raise InvalidMessage("non-finite edge points")
 
 
@@ -251,164 +242,6 @@ class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     flood_clock_start_t_s: float | None = None
     target_ids: list[int] = []
     params: dict[str, float] = {}
-
-
-class RadioLinkStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radiostats/1"):
-    """Per-link counters of the radio emulator, published periodically for the ground station and tests.
-
-    ``links`` rows: (sender_id, receiver_id, delivered, lost). ``out_of_range`` counts (message, vehicle) pairs
-    that did not hear a message only because of range; ``rejected`` counts malformed/spoofed agent messages.
-    """
-
-    t_s: float
-    messages_in: int
-    delivered: int
-    lost: int
-    out_of_range: int
-    rejected: int
-    links: list[tuple[int, int, int, int]] = []
-
-
-class RadioBundle(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/radio/1"):
-    """What the radio emulator hands one receiver in one delivery tick: (sender_id, NeighbourState payload) pairs.
-
-    Bundling keeps the emulator at one Zenoh put per receiver per tick instead of one per (sender, receiver)
-    link; the payloads are the senders' own bytes, forwarded untouched.
-    """
-
-    t_s: float
-    entries: list[tuple[int, bytes]]
-
-
-class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
-    """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
-
-    t_s: float
-    vehicle_id: int
-    event: Literal["alive", "dead", "stale", "rejoined"]
-    observer: str = ""
-
-
-class SecurityEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/security/1"):
-    """Messages the ground station dropped for their authentication tag (:mod:`comms.signing`), one per kind of
-    attempt per second at most: ``reason`` (``unsigned``, ``bad_tag``, ``wrong_sender``, ``replayed``,
-    ``out_of_window``), the ``key`` they came on, the sender they claimed (``unknown`` when unsigned), how many
-    since the previous report (``count``) and in all (``total``), and the sender's address when Zenoh gives one."""
-
-    t_s: float
-    reason: str
-    key: str
-    claimed_sender: str
-    count: int
-    total: int
-    source: str = ""
-
-
-class SimClockTick(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/clock/1"):
-    """The simulation clock has reached ``t_s`` (mission seconds) and every input for that instant is out.
-
-    A paced simulation (``--clock paced``) publishes one per control period once the fleet is held at ``t_s`` and
-    the camera and radio processes have delivered what is due by then; agents compute their tick for ``t_s`` on it,
-    as a PX4 SITL companion does on Gazebo's clock. ``paced`` False: a free-running clock, for information.
-    """
-
-    t_s: float
-    seq: int
-    paced: bool = True
-
-    def __post_init__(self) -> None:
-        if not math.isfinite(self.t_s):
-            raise InvalidMessage("non-finite t_s")
-
-
-class PaceAck(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/pace/1"):
-    """A participant of the simulation has done everything it owes for mission time ``t_s``.
-
-    ``participant``: a vehicle id as text (its agent sent its setpoint and state message for that tick), or
-    ``cameras`` / ``radio`` (frames due by ``t_s`` rendered and published; messages due by ``t_s`` delivered).
-    ``leaving``: the participant is exiting on purpose and must no longer be waited for.
-    """
-
-    participant: str
-    t_s: float
-    leaving: bool = False
-
-    def __post_init__(self) -> None:
-        if not math.isfinite(self.t_s):
-            raise InvalidMessage("non-finite t_s")
-
-
-class ParticipantPace(msgspec.Struct, frozen=True, omit_defaults=True):
-    """One participant's record in a :class:`PaceReport`: ticks done between the mission times ``first_t_s`` and
-    ``last_t_s`` (its achieved rate), the slowest wait it caused, whether it is left behind (silent for longer than
-    the agent timeout) and how often that happened."""
-
-    participant: str
-    ticks: int
-    first_t_s: float
-    last_t_s: float
-    max_wait_wall_s: float
-    left_behind: bool = False
-    times_left_behind: int = 0
-    leaving: bool = False
-
-
-class PaceReport(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/pacereport/1"):
-    """The simulation clock's own account, published by the fleet once per wall second and at the end.
-
-    ``real_time_factor``: mission seconds per wall second since the clock started (over the last report period in
-    ``recent_real_time_factor``); ``held_wall_s``: wall time the clock stood still waiting for participants.
-    """
-
-    t_s: float
-    wall_s: float
-    paced: bool
-    real_time_factor: float
-    recent_real_time_factor: float
-    held_wall_s: float
-    participants: list[ParticipantPace] = []
-    waiting_for: list[str] = []
-    """Who the clock is waiting for right now (a paced clock that stands still says why)."""
-
-
-class CameraStats(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/camerastats/1"):
-    """The camera process's achieved frame rate per airborne camera vehicle [Hz of mission time] and its nominal."""
-
-    t_s: float
-    frames_sent: int
-    frame_rate_hz: float
-    nominal_rate_hz: float
-
-
-class GeoJsonPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Polygon"):
-    """RFC 7946 Polygon geometry: rings of ``[lon, lat]`` positions, first = last, outer ring counter-clockwise."""
-
-    coordinates: list[list[Point2]]
-
-
-class FloodPolygonProperties(msgspec.Struct, frozen=True, omit_defaults=True):
-    """What the rescue centre needs next to the shape; ``schema`` carries the version."""
-
-    schema: Literal["fw/polygon/1"]
-    mission: str
-    t_s: float
-    area_m2: float
-    perimeter_m: float
-    growth_rate_m2_per_s: float | None = None  # null until two polygons exist (JSON has no NaN)
-    vehicle_ids: list[int] = []
-    utc_iso: str = ""
-
-
-class FloodPolygon(msgspec.Struct, frozen=True, tag_field="type", tag="Feature"):
-    """The ground station's caged flood polygon as a GeoJSON Feature (public key ``.../gcs/polygon``)."""
-
-    geometry: GeoJsonPolygon
-    properties: FloodPolygonProperties
-
-    def __post_init__(self) -> None:
-        rings = self.geometry.coordinates
-        if not rings or len(rings[0]) < 4 or not all(_finite_points(r) for r in rings):
-            raise InvalidMessage("polygon needs a closed finite outer ring of >= 4 positions")
 
 
 Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
@@ -561,52 +394,3 @@ def decode(kind: type[M] | str, payload: bytes | bytearray | memoryview, stats: 
     Never raises. ``stats`` defaults to the process-wide ``decode_stats``.
     """
     return decode_with_reason(kind, payload, stats)[0]
-
-
-def flood_polygon_from_enu(
-    ring_en_m: ArrayLike,
-    home: GeodeticHome,
-    *,
-    mission: str,
-    t_s: float,
-    growth_rate_m2_per_s: float | None = None,
-    vehicle_ids: Sequence[int] = (),
-    utc_iso: str = "",
-) -> FloodPolygon:
-    """Build the GeoJSON polygon from a mission-ENU ring (K, 2): closes it, makes it counter-clockwise (RFC 7946),
-    converts to ``[lon, lat]`` through ``comms.frames``, and fills area and perimeter [m², m] from the ENU ring.
-
-    A non-finite growth rate (e.g. NaN before two polygons exist) becomes null; a non-finite ring or time, or fewer
-    than 3 distinct vertices, raises ValueError (JSON cannot carry NaN, and the receiver would drop it)."""
-    ring = np.asarray(ring_en_m, dtype=float).reshape(-1, 2)
-    if not (np.isfinite(ring).all() and math.isfinite(t_s)):
-        raise ValueError("polygon ring and t_s must be finite")
-    if len(ring) >= 2 and np.allclose(ring[0], ring[-1]):
-        ring = ring[:-1]
-    if len(ring) < 3:
-        raise ValueError("a polygon needs at least 3 distinct vertices")
-    x, y = ring[:, 0], ring[:, 1]
-    signed_area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-    if signed_area < 0:
-        ring = ring[::-1]
-    perimeter_m = float(np.sum(np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)))
-    geo = enu_to_geodetic(ring, home)
-    coords = [(float(lon), float(lat)) for lat, lon in geo[:, :2]]
-    coords.append(coords[0])
-    return FloodPolygon(
-        geometry=GeoJsonPolygon(coordinates=[coords]),
-        properties=FloodPolygonProperties(
-            schema="fw/polygon/1",
-            mission=mission,
-            t_s=float(t_s),
-            area_m2=abs(signed_area),
-            perimeter_m=perimeter_m,
-            growth_rate_m2_per_s=(
-                float(growth_rate_m2_per_s)
-                if growth_rate_m2_per_s is not None and math.isfinite(growth_rate_m2_per_s)
-                else None
-            ),
-            vehicle_ids=[int(v) for v in vehicle_ids],
-            utc_iso=utc_iso,
-        ),
-    )

@@ -96,7 +96,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         emulator.stop()
     c = emulator.relay.counters
     print(f"comms.radio: {time.monotonic() - started:.1f} s, in {c.messages_in}, delivered {c.delivered}, lost {c.lost}, "
-          f"out of range {c.out_of_range}, over budget {c.over_budget}, rejected {c.rejected}, no truth {c.no_truth}, superseded {emulator.input_superseded}", file=sys.stderr)
+          f"out of range {c.out_of_range}, over budget {c.over_budget}, rejected {c.rejected}, no truth {c.no_truth}, input gaps {emulator.input_gaps}", file=sys.stderr)
     return 0
 
 

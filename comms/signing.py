@@ -123,8 +123,7 @@ def read_block(payload: bytes) -> SignatureBlock | None:
 
 def unsigned_body(payload: bytes) -> bytes:
     """The message part of a signed payload, unchecked (for read-only listeners that hold no key)."""
-    block = read_block(payload)
-    return payload if block is None else payload[: block.body_bytes]
+    return payload if _unpack_block(payload) is None else payload[: len(payload) - TRAILER_BYTES]
 
 
 class Verdict(NamedTuple):

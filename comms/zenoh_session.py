@@ -12,7 +12,9 @@ Topologies (``ZenohConfig``):
 
 Callback discipline: our callbacks run directly on Zenoh's threads (no extra Python thread per subscriber). They
 copy the payload into a ``LatestValueBuffer`` and return; they never block, never call Zenoh, and never raise
-(errors are counted in ``callback_errors``).
+(errors are counted in ``callback_errors``). A consumer of thousands of samples a second that wants every one
+(the radio emulator) subscribes with ``subscribe_queue`` instead: Zenoh keeps the samples in its own bounded ring
+and the consumer's thread takes them, so no Python runs on Zenoh's threads at all.
 Open sessions only after any ``fork``. ``close`` undeclares everything and closes the session; an ``atexit`` hook
 closes sessions a caller forgot, so the interpreter never hangs at exit.
 
@@ -257,6 +259,18 @@ class ZenohSession:
         """Hold a liveliness token on ``key`` until this session closes (or the process dies)."""
         self._declare(lambda: self._session.liveliness().declare_token(key))
 
+    def subscribe_queue(self, key_expr: str, capacity: int = 65536) -> SampleQueue:
+        """A (wildcard) subscriber whose samples wait in Zenoh's own bounded ring, drained by the consumer's thread.
+
+        For a consumer that takes thousands of samples per second and wants every one of them (the radio
+        emulator): no Python runs on Zenoh's threads, so there is no interpreter-lock hand-over per sample, only a
+        ``try_recv`` per sample in the consumer's loop (about a fifth of the callback path's CPU, see
+        docs/BENCHMARKS.md). When the ring is full the oldest sample is dropped; the consumer cannot be woken by an
+        arrival, so it polls.
+        """
+        return SampleQueue(self._declare(
+            lambda: self._session.declare_subscriber(key_expr, zenoh.handlers.RingChannel(capacity))))
+
     def subscribe_alive(self, key_expr: str, buffer: LatestValueBuffer | None = None, history: bool = True) -> LatestValueBuffer:
         """Liveliness changes under ``key_expr`` into ``buffer``: kind "put" = token appeared, "delete" = gone.
 
@@ -285,11 +299,13 @@ class ZenohSession:
         return sorted(keys)
 
     # ---- lifecycle
-    def _declare(self, make: Callable[[], Any]) -> None:
+    def _declare(self, make: Callable[[], Any]) -> Any:
         with self._lock:
             if self._closed:
                 raise RuntimeError("zenoh session is closed")
-            self._entities.append(make())
+            entity = make()
+            self._entities.append(entity)
+            return entity
 
     def close(self) -> None:
         """Undeclare tokens, subscribers and publishers, then close the session; idempotent, never raises."""
@@ -309,6 +325,30 @@ class ZenohSession:
         except Exception:
             pass
         _open_sessions.discard(self)
+
+
+class SampleQueue:
+    """The consumer's side of :meth:`ZenohSession.subscribe_queue` (undeclared with the session)."""
+
+    def __init__(self, subscriber: Any) -> None:
+        self.subscriber = subscriber
+        self.received = 0
+
+    def drain(self, max_samples: int = 1 << 20) -> list[tuple[str, bytes]]:
+        """Everything waiting (at most ``max_samples``), oldest first, as (key, payload) of the PUT samples."""
+        out: list[tuple[str, bytes]] = []
+        try_recv, put = self.subscriber.try_recv, zenoh.SampleKind.PUT
+        for _ in range(max_samples):
+            try:
+                sample = try_recv()
+            except Exception:  # the subscriber was undeclared (session closing)
+                break
+            if sample is None:
+                break
+            if sample.kind == put:
+                out.append((str(sample.key_expr), sample.payload.to_bytes()))
+        self.received += len(out)
+        return out
 
 
 def wait_for_peers(session: ZenohSession, key_expr: str, count: int, timeout_s: float = 10.0) -> bool:

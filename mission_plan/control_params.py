@@ -11,6 +11,8 @@ which vehicle each follower tracks (eq 10's ``i = n j``).
 
 from __future__ import annotations
 
+import enum
+
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -21,7 +23,15 @@ from mission_plan.roles import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLES
 from mission_plan.roster import RosterEntry
 from mission_plan.unknown_keys import first_unknown, unknown_key_message
 
-MODES = ("paper", "improved")
+class ControlMode(enum.StrEnum):
+    """The control-law sets a mission flies: the paper's laws as printed, or with the improvements (ring spacing,
+    the braking-aware barrier, the area-centroid leader). Equal to its name in plans and on the command line."""
+
+    PAPER = "paper"
+    IMPROVED = "improved"
+
+
+MODES: tuple[ControlMode, ...] = tuple(ControlMode)
 PDOT_READINGS = ("normal", "full", "none")
 PAPER_PIXEL_GAINS = (1.0 / 300.0, 1.0 / 85.0)
 """Eq 8 as printed: K_b = K_l = K_f = diag(1/300, 1/85) (the paper's §IV values, pixel units)."""
@@ -36,7 +46,7 @@ class ControlParamsError(ValueError):
 class ControlParams:
     """Everything a control step needs besides its inputs. Defaults are the ``paper`` mode in metres."""
 
-    mode: str = "paper"
+    mode: str = ControlMode.PAPER
     nominal_altitude_m: float = 10.0
     fov_deg: float = 60.0
     k_boundary_per_s: tuple[float, float] = (1.0, 1.0)
@@ -132,11 +142,12 @@ class ControlParams:
                 raise ControlParamsError(f"vehicles.{entry.vehicle_id}.role: unknown role {entry.role!r}")
 
     def entry(self, vehicle_id: int) -> RosterEntry:
-        """This vehicle's roster entry (a lone vehicle not in the roster is a paper-mode boundary drone of A)."""
+        """This vehicle's roster entry; a vehicle the roster does not hold is an error (KeyError naming it)."""
         for entry in self.roster:
             if entry.vehicle_id == vehicle_id:
                 return entry
-        return RosterEntry(vehicle_id=vehicle_id, role=ROLE_BOUNDARY, group="A")
+        known = ", ".join(str(e.vehicle_id) for e in self.roster) or "none"
+        raise KeyError(f"vehicle {vehicle_id} is not in the roster (vehicles: {known})")
 
     def ring_order(self) -> tuple[int, ...]:
         """Boundary drone ids in counter-clockwise order once caged: B's leader first, then B, then A back to A's leader.
@@ -212,7 +223,7 @@ def params_for_mode(mode: str, table: Mapping[str, Any], roster: tuple[RosterEnt
     if mode not in MODES:
         raise ControlParamsError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
     _check_keys(table, fixed)
-    values: dict[str, Any] = dict(_IMPROVED_DEFAULTS) if mode == "improved" else {}
+    values: dict[str, Any] = dict(_IMPROVED_DEFAULTS) if mode == ControlMode.IMPROVED else {}
     merged: dict[str, Any] = {k: v for k, v in table.items() if k not in MODES}
     merged.update(table.get(mode, {}) or {})
     preset = merged.pop("gain_preset", "metres")

@@ -22,7 +22,7 @@ from mission_plan.table_fields import ScenarioError, integer, number, pair, reje
 
 FLEET_KEYS = frozenset({"boundary_per_group", "leaders", "follower_layers", "pad_spacing_m", "launch_en_m",
                         "flood_center_en_m", "gps", "launch_bearing_deg", "launch_clearance_m"})
-GPS_CHOICES = ("leader", "all", "none")
+GPS_CHOICES = (ROLE_LEADER.value, "all", "none")
 AUTO_LAUNCH = "auto"
 """``launch_en_m = "auto"``: the launch site just outside the flood's initial edge (resolved by the ground station)."""
 
@@ -69,7 +69,7 @@ def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
     spacing = number(fleet, "pad_spacing_m", 1.5, "fleet", positive=True)
     launch = pair(fleet, "launch_en_m", (14.0, 0.0), "fleet")
     centre = pair(fleet, "flood_center_en_m", (0.0, 0.0), "fleet")
-    gps = fleet.get("gps", "leader")
+    gps = fleet.get("gps", ROLE_LEADER.value)
     if gps not in GPS_CHOICES:
         raise ScenarioError(f"fleet.gps: must be leader, all or none, got {gps!r}")
     number(fleet, "launch_bearing_deg", 0.0, "fleet")
@@ -104,7 +104,7 @@ def build_fleet(fleet: Mapping[str, Any]) -> tuple[VehicleSpec, ...]:
     )[:inner_count]
     slot = 0
     for _ in range(leaders):
-        vehicles.append(VehicleSpec(next_id, ROLE_LEADER, pad(*inner_slots[slot]), gps in ("leader", "all")))
+        vehicles.append(VehicleSpec(next_id, ROLE_LEADER, pad(*inner_slots[slot]), gps in (ROLE_LEADER, "all")))
         next_id += 1
         slot += 1
     outer_ids = [v.vehicle_id for v in ring]

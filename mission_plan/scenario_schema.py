@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from mission_plan.control_params import ControlParams, ControlParamsError, params_for_mode
+from mission_plan.control_params import MODES, ControlParams, ControlParamsError, params_for_mode
 from mission_plan.dynamics import KinematicLimits
 from mission_plan.fleet import AUTO_LAUNCH, VehicleSpec, build_fleet, check_fleet_keys
 from mission_plan.home import GeodeticHome
@@ -209,6 +209,6 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         source_dir=source_dir,
         imaging=imaging_spec(sub_table(raw, "imaging")),
     )
-    for mode in ("paper", "improved"):
+    for mode in MODES:
         scenario.control_params(mode)
     return scenario

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable, Protocol, Sequence
 
-FAULT_KINDS = ("kill", "gps", "battery", "drop", "delay", "restore")
 _NEEDS_VALUE = ("battery", "delay")
 
 
@@ -36,8 +36,8 @@ def parse_fault(text: str) -> FaultSpec:
     if not sep or len(parts) not in (2, 3):
         raise FaultSpecError(f"fault {text!r}: expected KIND:INSTANCE[:VALUE]@T_S")
     kind = parts[0]
-    if kind not in FAULT_KINDS:
-        raise FaultSpecError(f"fault {text!r}: kind must be one of {', '.join(FAULT_KINDS)}")
+    if kind not in FAULT_EFFECTS:
+        raise FaultSpecError(f"fault {text!r}: kind must be one of {', '.join(FAULT_EFFECTS)}")
     try:
         instance = int(parts[1])
         at_s = float(when)
@@ -49,3 +49,59 @@ def parse_fault(text: str) -> FaultSpec:
     if kind in _NEEDS_VALUE and not (math.isfinite(value) and value >= 0):
         raise FaultSpecError(f"fault {text!r}: {kind} needs a VALUE >= 0")
     return FaultSpec(kind, instance, at_s, value)
+
+
+class FaultableVehicle(Protocol):
+    """What a fault does to a vehicle (:class:`mock_autopilot.vehicle.Vehicle` has it)."""
+
+    def kill(self) -> None: ...
+    def set_gps_available(self, available: bool, now_s: float) -> None: ...
+    def set_battery_remaining(self, fraction: float) -> None: ...
+
+
+class FaultableLink(Protocol):
+    """What a fault does to a link (:class:`mock_autopilot.udp_link.UdpLink` has it)."""
+
+    dropped_by_fault: bool
+    delay_s: float
+
+
+def _kill(vehicle: FaultableVehicle, links: Sequence[FaultableLink], fault: FaultSpec, now_s: float) -> None:
+    vehicle.kill()
+
+
+def _lose_gps(vehicle: FaultableVehicle, links: Sequence[FaultableLink], fault: FaultSpec, now_s: float) -> None:
+    vehicle.set_gps_available(False, now_s)
+
+
+def _drain_battery(vehicle: FaultableVehicle, links: Sequence[FaultableLink], fault: FaultSpec, now_s: float) -> None:
+    vehicle.set_battery_remaining(fault.value)
+
+
+def _drop(vehicle: FaultableVehicle, links: Sequence[FaultableLink], fault: FaultSpec, now_s: float) -> None:
+    for link in links:
+        link.dropped_by_fault = True
+
+
+def _delay(vehicle: FaultableVehicle, links: Sequence[FaultableLink], fault: FaultSpec, now_s: float) -> None:
+    for link in links:
+        link.delay_s = fault.value
+
+
+def _restore(vehicle: FaultableVehicle, links: Sequence[FaultableLink], fault: FaultSpec, now_s: float) -> None:
+    for link in links:
+        link.dropped_by_fault = False
+        link.delay_s = 0.0
+
+
+FaultEffect = Callable[[FaultableVehicle, Sequence[FaultableLink], FaultSpec, float], None]
+
+FAULT_EFFECTS: dict[str, FaultEffect] = {
+    "kill": _kill,
+    "gps": _lose_gps,
+    "battery": _drain_battery,
+    "drop": _drop,
+    "delay": _delay,
+    "restore": _restore,
+}
+"""Fault kind -> what it does to the vehicle and its links at simulated time ``now_s``."""

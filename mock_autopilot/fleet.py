@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from comms.frames import local_ned_to_mission_enu, ned_to_enu
 from mock_autopilot.clock import SimClock
-from mock_autopilot.faults import FaultSpec
+from mock_autopilot.faults import FAULT_EFFECTS, FaultSpec
 from mock_autopilot.mavlink_codec import LinkCodec, SigningState
 from mock_autopilot.ports import onboard_port
 from mock_autopilot.px4_streams import GCS, LINKS, ONBOARD, STREAM_PROFILES
@@ -291,7 +291,7 @@ class Fleet:
             if vehicle.killed or wall_s - self._heartbeat_wall_s[i] < WALL_HEARTBEAT_PERIOD_S:
                 continue
             self._heartbeat_wall_s[i] = wall_s
-            message = heartbeat(vehicle, self.clock.now_s())
+            message = heartbeat(vehicle.snapshot(self.clock.now_s()))
             for link in self.links[i].values():
                 link.send(message)
                 link.flush()
@@ -309,24 +309,8 @@ class Fleet:
             self._apply_fault(fault)
 
     def _apply_fault(self, fault: FaultSpec) -> None:
-        vehicle = self.vehicles[fault.instance]
-        links = self.links[fault.instance]
-        if fault.kind == "kill":
-            vehicle.kill()
-        elif fault.kind == "gps":
-            vehicle.set_gps_available(False, self.clock.now_s())
-        elif fault.kind == "battery":
-            vehicle.set_battery_remaining(fault.value)
-        elif fault.kind == "drop":
-            for link in links.values():
-                link.dropped_by_fault = True
-        elif fault.kind == "delay":
-            for link in links.values():
-                link.delay_s = fault.value
-        elif fault.kind == "restore":
-            for link in links.values():
-                link.dropped_by_fault = False
-                link.delay_s = 0.0
+        links = list(self.links[fault.instance].values())
+        FAULT_EFFECTS[fault.kind](self.vehicles[fault.instance], links, fault, self.clock.now_s())
 
     def _call_in_loop(self, fault: FaultSpec) -> None:
         if self._loop is None or self._thread is None:

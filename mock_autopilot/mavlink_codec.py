@@ -28,11 +28,13 @@ from dataclasses import dataclass, field
 from pymavlink.dialects.v20 import common as mavlink
 from pymavlink.generator.mavcrc import x25crc
 
-MAGIC_V2 = 0xFD
-MAGIC_V1 = 0xFE
-HEADER_LEN_V2 = 10
-SIGNATURE_LEN = 13
-IFLAG_SIGNED = 0x01
+from comms.px4 import INCOMPAT_FLAG_SIGNED, MAVLINK1_STX, MAVLINK2_HEADER_LEN, MAVLINK2_STX, SIGNATURE_LEN
+from comms.px4 import frame_length, message_id
+
+MAGIC_V2 = MAVLINK2_STX
+MAGIC_V1 = MAVLINK1_STX
+HEADER_LEN_V2 = MAVLINK2_HEADER_LEN
+IFLAG_SIGNED = INCOMPAT_FLAG_SIGNED
 SIGNING_EPOCH_UNIX_S = 1_420_070_400  # 2015-01-01, the MAVLink signing timestamp origin
 SIGNING_TICKS_PER_S = 100_000  # 10 µs units
 SIGNING_MAX_AGE_TICKS = 60 * SIGNING_TICKS_PER_S
@@ -148,10 +150,10 @@ class LinkCodec:
         incompat = data[i + 2]
         if incompat & ~IFLAG_SIGNED:
             return None, "bad_incompat_flags"
-        frame_len = HEADER_LEN_V2 + payload_len + 2 + (SIGNATURE_LEN if incompat & IFLAG_SIGNED else 0)
-        if i + frame_len > n:
+        frame_len = frame_length(data, i)
+        if frame_len is None or i + frame_len > n:
             return None, "truncated"
-        msg_id = data[i + 7] | (data[i + 8] << 8) | (data[i + 9] << 16)
+        msg_id = message_id(data[i : i + HEADER_LEN_V2])
         cls = mavlink.mavlink_map.get(msg_id)
         if cls is None:
             return None, "unknown_msgid"
@@ -165,7 +167,7 @@ class LinkCodec:
         return bytes(data[i : i + frame_len]), ""
 
     def _check_and_decode(self, frame: bytes, unix_time_s: float) -> tuple[mavlink.MAVLink_message | None, bool]:
-        msg_id = frame[7] | (frame[8] << 8) | (frame[9] << 16)
+        msg_id = message_id(frame)
         src_system, src_component = frame[5], frame[6]
         signed = bool(frame[2] & IFLAG_SIGNED)
         signature_ok = False

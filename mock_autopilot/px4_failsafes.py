@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from mock_autopilot.px4_modes import Px4Mode
+from comms.px4 import Px4Mode
 
 TERMINATE: Literal["terminate"] = "terminate"
 DISARM: Literal["disarm"] = "disarm"

@@ -2,12 +2,16 @@
 
 type_mask bits say which fields to IGNORE: x,y,z (1,2,4), vx,vy,vz (8,16,32), ax,ay,az (64,128,256),
 FORCE_SET (512), yaw (1024), yaw_rate (2048). MAVSDK's velocity-with-yaw setpoint is 2503 (positions,
-accelerations and yaw rate ignored).
+accelerations and yaw rate ignored). Bits above 2048 are undefined; PX4 ignores them, and so does the decoder.
 
-Validity follows PX4's position controller input check: every axis needs at least one of position, velocity or
-acceleration; x and y come in pairs for each of them; used fields must be finite. FORCE_SET (force instead of
-acceleration) is not supported by PX4 multicopters and is refused; bits above 2048 are undefined and refused.
-That leaves 7 (xy) x 7 (z) x 4 (yaw) = 196 valid masks out of 4096.
+As PX4's receiver (mavlink_receiver.cpp) does: FORCE_SET (force instead of acceleration) is refused only when an
+acceleration is used ("force not supported"), so a client that sets bit 9 with its accelerations ignored flies; a
+used field holding NaN counts as not set; a setpoint that sets no position, velocity or acceleration at all is
+refused ("invalid"). Every other setpoint is offboard proof of life. Whether it can be flown is the position
+controller's input check: every axis needs at least one of position, velocity or acceleration, x and y come in
+pairs for each of them, and every set value is finite; PX4 hovers (its failsafe setpoint) on one that fails, and
+so does the mock (``OffboardSetpoint.flyable``). That leaves 7 (xy) x 7 (z) x 4 (yaw) = 196 flyable masks without
+FORCE_SET and 3 x 3 x 4 = 36 with it (accelerations ignored): 232 of the 4096 defined ones.
 
 Frames: LOCAL_NED (absolute, from the vehicle's boot position), LOCAL_OFFSET_NED (position relative to the
 current position), BODY_NED and BODY_OFFSET_NED (position offset, velocity and acceleration rotated by the
@@ -37,6 +41,8 @@ FORCE_SET = 512
 IGNORE_YAW = 1024
 IGNORE_YAW_RATE = 2048
 MASK_VELOCITY_AND_YAW = 2503
+DEFINED_BITS = 0x0FFF
+_ACCELERATION_BITS = IGNORE_AX | IGNORE_AY | IGNORE_AZ
 
 
 @dataclass(frozen=True)
@@ -54,11 +60,18 @@ class OffboardSetpoint:
     yaw_rate_rad_s: float
     type_mask: int
     frame: int
+    flyable: bool = True
+    """Passes the position controller's input check; False: proof of life only, the vehicle hovers."""
 
 
 def _pick(values: ArrayLike, mask: int, bits: tuple[int, int, int]) -> NDArray[np.float64]:
     v = np.asarray(values, dtype=float)
     return np.array([math.nan if mask & b else float(v[i]) for i, b in enumerate(bits)])
+
+
+def _all_finite_where_set(*values: NDArray[np.float64] | float) -> bool:
+    """No infinity among the values that are set (NaN means not set)."""
+    return all(math.isnan(x) or math.isfinite(x) for v in values for x in np.atleast_1d(v))
 
 
 def _axes_valid(pos: NDArray[np.float64], vel: NDArray[np.float64], acc: NDArray[np.float64]) -> str | None:
@@ -82,29 +95,22 @@ def decode_position_target(
     current_position_ned_m: ArrayLike,
     current_yaw_rad: float,
 ) -> OffboardSetpoint | str:
-    """Decode one SET_POSITION_TARGET_LOCAL_NED; returns the setpoint or the reason it is refused."""
-    if type_mask < 0 or type_mask > 0x0FFF:
+    """Decode one SET_POSITION_TARGET_LOCAL_NED; returns the setpoint (maybe not flyable) or why it is refused."""
+    if type_mask < 0:
         return "type_mask_out_of_range"
-    if type_mask & FORCE_SET:
-        return "force_setpoint_unsupported"
+    type_mask &= DEFINED_BITS
     if frame not in SUPPORTED_FRAMES:
         return "frame_unsupported"
+    if type_mask & FORCE_SET and (type_mask & _ACCELERATION_BITS) != _ACCELERATION_BITS:
+        return "force_setpoint_unsupported"
     pos = _pick(position, type_mask, (IGNORE_X, IGNORE_Y, IGNORE_Z))
     vel = _pick(velocity, type_mask, (IGNORE_VX, IGNORE_VY, IGNORE_VZ))
     acc = _pick(acceleration, type_mask, (IGNORE_AX, IGNORE_AY, IGNORE_AZ))
     yaw = math.nan if type_mask & IGNORE_YAW else float(yaw_rad)
     yaw_rate = math.nan if type_mask & IGNORE_YAW_RATE else float(yaw_rate_rad_s)
-    if (not type_mask & IGNORE_YAW and not math.isfinite(yaw)) or (
-        not type_mask & IGNORE_YAW_RATE and not math.isfinite(yaw_rate)
-    ):
-        return "non_finite_field"
-    for arr, bits in ((pos, (IGNORE_X, IGNORE_Y, IGNORE_Z)), (vel, (IGNORE_VX, IGNORE_VY, IGNORE_VZ)), (acc, (IGNORE_AX, IGNORE_AY, IGNORE_AZ))):
-        for i, b in enumerate(bits):
-            if not type_mask & b and not math.isfinite(arr[i]):
-                return "non_finite_field"
-    problem = _axes_valid(pos, vel, acc)
-    if problem is not None:
-        return problem
+    if np.isnan(pos).all() and np.isnan(vel).all() and np.isnan(acc).all():
+        return "no_setpoint"
+    flyable = _all_finite_where_set(pos, vel, acc, yaw, yaw_rate) and _axes_valid(pos, vel, acc) is None
     current = np.asarray(current_position_ned_m, dtype=float)
     if frame in (MAV_FRAME_BODY_NED, MAV_FRAME_BODY_OFFSET_NED):
         pos = body_frd_to_ned(pos, current_yaw_rad) + current
@@ -120,6 +126,7 @@ def decode_position_target(
         yaw_rate_rad_s=yaw_rate,
         type_mask=type_mask,
         frame=frame,
+        flyable=flyable,
     )
 
 

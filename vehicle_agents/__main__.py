@@ -29,9 +29,10 @@ from comms.keys import KeyNameError, validate_mission
 from comms.signing import MissionKey
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.zenoh_session import ZenohOpenError
-from mission_plan.control_params import MODES
+from mission_plan.control_params import MODES, ControlMode
 from mission_plan.plan_files import PlanFileError, read_plan
 from mission_plan.plans import AgentPlan, agent_plan
+from mission_plan.roles import Role
 from mission_plan.scenario_files import load_scenario
 from mission_plan.table_fields import ScenarioError
 from vehicle_agents.agent import EXIT_START_FAILED, Agent, AgentConfig
@@ -44,7 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m vehicle_agents", description="One FloodWatch drone's onboard agent.")
     p.add_argument("--plan", type=Path, metavar="FILE", help="this drone's plan file (agent plan JSON)")
     p.add_argument("--id", type=int, dest="vehicle_id", help="vehicle id (= MAVLink system id); with --scenario")
-    p.add_argument("--role", choices=("boundary", "leader", "follower"), help="must match the plan")
+    p.add_argument("--role", choices=[r.value for r in Role], help="must match the plan")
     p.add_argument("--mavlink", help="autopilot URL (default udpin://0.0.0.0:<14540 + id - 1>)")
     p.add_argument("--mavlink-base-port", type=int, default=14540, help="base of the default URL's port")
     p.add_argument("--link", choices=("mavsdk", "pymavlink"), default="mavsdk", help="MAVLink library")
@@ -84,7 +85,7 @@ def load_agent_plan(args: argparse.Namespace) -> AgentPlan:
     if args.vehicle_id is None:
         raise ScenarioError("--id: required with --scenario (or give a --plan file)")
     scenario = load_scenario(args.scenario or "circle", args.overrides)
-    return agent_plan(scenario, args.vehicle_id, args.mode or "improved")
+    return agent_plan(scenario, args.vehicle_id, args.mode or ControlMode.IMPROVED)
 
 
 def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float = 1.0, paced: bool = False,

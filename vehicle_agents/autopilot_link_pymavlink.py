@@ -16,23 +16,21 @@ import threading
 import time
 from typing import Any
 
+from comms.px4 import MODE_TABLE, LandedState, MavResult, Px4Mode, is_armed, mavsdk_mode_name
 from vehicle_agents.autopilot_link import AutopilotLinkError, AutopilotTelemetry
 
 os.environ.setdefault("MAVLINK20", "1")
 from pymavlink import mavutil  # noqa: E402
 
 _ml = mavutil.mavlink
+_AIRBORNE = frozenset(int(state) for state in LandedState if state.airborne)
 _SETPOINT_PERIOD_S = 0.05
 _VELOCITY_YAW_TYPE_MASK = 0b0000_1001_1100_0111  # 2503: use vx, vy, vz and yaw (as MAVSDK's set_velocity_ned)
 _ACK_TIMEOUT_S = 1.0
 _ACK_RETRIES = 3
-_PREARM_CHECK_BIT = 0x10000000
-_PX4_MAIN_OFFBOARD = 6
-_PX4_MAIN_AUTO = 4
-_PX4_SUB_LOITER = 3
-_MODE_NAMES = {(6, 0): "OFFBOARD", (4, 1): "READY", (4, 2): "TAKEOFF", (4, 3): "HOLD", (4, 4): "MISSION",
-               (4, 5): "RETURN_TO_LAUNCH", (4, 6): "LAND", (1, 0): "MANUAL", (2, 0): "ALTCTL", (3, 0): "POSCTL",
-               (7, 0): "STABILIZED"}
+_PREARM_CHECK_BIT = _ml.MAV_SYS_STATUS_PREARM_CHECK
+_OFFBOARD = MODE_TABLE[Px4Mode.OFFBOARD]
+_HOLD = MODE_TABLE[Px4Mode.AUTO_LOITER]
 
 
 def _pymavlink_url(url: str) -> str:
@@ -89,15 +87,13 @@ class PymavlinkAutopilotLink:
                 continue
             kind = msg.get_type()
             if kind == "HEARTBEAT":
-                main, sub = (msg.custom_mode >> 16) & 0xFF, (msg.custom_mode >> 24) & 0xFF
-                name = _MODE_NAMES.get((main, sub if main == _PX4_MAIN_AUTO else 0), "UNKNOWN")
-                self._update(armed=bool(msg.base_mode & _ml.MAV_MODE_FLAG_SAFETY_ARMED), flight_mode=name)
+                self._update(armed=is_armed(msg.base_mode), flight_mode=mavsdk_mode_name(msg.custom_mode))
             elif kind == "LOCAL_POSITION_NED":
                 self._update(position_ned_m=(msg.x, msg.y, msg.z), velocity_ned_mps=(msg.vx, msg.vy, msg.vz))
             elif kind == "ATTITUDE":
                 self._update(yaw_ned_rad=float(msg.yaw), roll_rad=float(msg.roll), pitch_rad=float(msg.pitch))
             elif kind == "EXTENDED_SYS_STATE":
-                self._update(in_air=msg.landed_state in (2, 3, 4))
+                self._update(in_air=msg.landed_state in _AIRBORNE)
             elif kind == "SYS_STATUS":
                 ready = bool(msg.onboard_control_sensors_health & _PREARM_CHECK_BIT)
                 battery = msg.battery_remaining / 100.0 if msg.battery_remaining >= 0 else 1.0
@@ -135,7 +131,7 @@ class PymavlinkAutopilotLink:
                 with self._lock:
                     result = self._acks.pop(command, None)
                 if result is not None:
-                    if result in (_ml.MAV_RESULT_ACCEPTED, _ml.MAV_RESULT_IN_PROGRESS):
+                    if result in (MavResult.ACCEPTED, MavResult.IN_PROGRESS):
                         return
                     raise AutopilotLinkError(f"{what} refused (MAV_RESULT {result})")
                 time.sleep(0.01)
@@ -157,7 +153,7 @@ class PymavlinkAutopilotLink:
         await self.set_velocity_ned(velocity_ned_mps, yaw_ned_rad)
         await asyncio.sleep(2 * _SETPOINT_PERIOD_S)
         await self._command("start offboard", _ml.MAV_CMD_DO_SET_MODE, _ml.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
-                            _PX4_MAIN_OFFBOARD, 0.0)
+                            _OFFBOARD.main_mode, _OFFBOARD.sub_mode)
 
     async def set_velocity_ned(self, velocity_ned_mps: tuple[float, float, float], yaw_ned_rad: float) -> None:
         self._setpoint = (tuple(float(c) for c in velocity_ned_mps), float(yaw_ned_rad))  # type: ignore[assignment]
@@ -165,7 +161,7 @@ class PymavlinkAutopilotLink:
     async def hold(self) -> None:
         self._setpoint = None
         await self._command("hold", _ml.MAV_CMD_DO_SET_MODE, _ml.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
-                            _PX4_MAIN_AUTO, _PX4_SUB_LOITER)
+                            _HOLD.main_mode, _HOLD.sub_mode)
 
     async def land(self) -> None:
         self._setpoint = None

@@ -15,6 +15,7 @@ import enum
 import math
 from dataclasses import dataclass
 
+from comms.px4 import MAVSDK_OFFBOARD
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 
 
@@ -110,14 +111,14 @@ def next_phase(phase: Phase, inputs: PhaseInputs, limits: PhaseLimits) -> tuple[
         return (phase, Action.ARM) if tel.ready_to_arm else (phase, Action.NONE)
     if phase is Phase.TAKING_OFF:
         altitude_m = -tel.position_ned_m[2]
-        if tel.flight_mode == "OFFBOARD":
+        if tel.flight_mode == MAVSDK_OFFBOARD:
             return Phase.STANDBY, Action.HOVER
         if tel.in_air and altitude_m >= limits.takeoff_reached_fraction * limits.takeoff_altitude_m:
             return phase, Action.START_OFFBOARD
         if not tel.armed:
             return Phase.PREFLIGHT, Action.NONE
         return phase, Action.NONE
-    if phase in (Phase.STANDBY, Phase.MISSION) and tel.flight_mode != "OFFBOARD":
+    if phase in (Phase.STANDBY, Phase.MISSION) and tel.flight_mode != MAVSDK_OFFBOARD:
         return Phase.OVERRIDDEN, Action.NONE
     if phase is Phase.STANDBY:
         return (Phase.MISSION, Action.FLY) if inputs.command is Command.START else (phase, Action.HOVER)

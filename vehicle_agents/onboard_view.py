@@ -29,6 +29,8 @@ from comms.messages import (
     HeardState,
     NeighbourState,
 )
+from comms.px4 import MAVSDK_OFFBOARD
+from mission_plan.roles import Role
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 from vehicle_agents.control.types import NeighbourInfo, OwnState, VelocityCommand
 from vehicle_agents.perception.result import PerceptionResult
@@ -109,7 +111,7 @@ def state_message(
     flags = 0
     flags |= FLAG_ARMED if tel.armed else 0
     flags |= FLAG_AIRBORNE if tel.in_air else 0
-    flags |= FLAG_OFFBOARD if tel.flight_mode == "OFFBOARD" else 0
+    flags |= FLAG_OFFBOARD if tel.flight_mode == MAVSDK_OFFBOARD else 0
     flags |= FLAG_HAS_GPS if own.has_gps else 0
     flags |= FLAG_LEAVING if leaving else 0
     flags |= FLAG_LOW_BATTERY if low_battery else 0
@@ -135,6 +137,6 @@ def state_message(
         battery_fraction=float(tel.battery_fraction),
         group=(broadcast.group or ""),  # type: ignore[arg-type]
         encircle_complete=broadcast.encircled,
-        edge_points_en_m=edge_points_for_radio(edge_points_en_m) if broadcast.role == "boundary" else [],
+        edge_points_en_m=edge_points_for_radio(edge_points_en_m) if broadcast.role == Role.BOUNDARY else [],
         extras={k: v for k, v in extras.items() if math.isfinite(v)},
     )

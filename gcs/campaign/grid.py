@@ -12,14 +12,11 @@ import itertools
 import json
 from collections.abc import Sequence
 from dataclasses import dataclass
-from enum import StrEnum
 
+from mission_plan.control_params import ControlMode
 
-class Mode(StrEnum):
-    """The control-law sets a run can fly (``mission_plan.control_params.MODES``)."""
-
-    PAPER = "paper"
-    IMPROVED = "improved"
+Mode = ControlMode
+"""The control-law sets a run can fly."""
 
 
 class CampaignSyntaxError(ValueError):

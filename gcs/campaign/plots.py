@@ -18,8 +18,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from gcs.campaign.runner import GRID_PREFIX  # noqa: E402
 from gcs.campaign.summary import HEADLINE_METRICS, Row, finite_values, grid_keys, modes_present, ok_rows, sort_key  # noqa: E402
+from mission_plan.control_params import ControlMode
 
-MODE_COLOURS = {"paper": "#4c72b0", "improved": "#dd8452"}
+MODE_COLOURS = {ControlMode.PAPER: "#4c72b0", ControlMode.IMPROVED: "#dd8452"}
 PLOT_METRICS = (*HEADLINE_METRICS, ("wall_s", "wall time per run [s]"), ("cpu_s", "CPU time per run [s]"))
 
 

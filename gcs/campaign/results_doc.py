@@ -19,6 +19,8 @@ from typing import Any
 
 from gcs.campaign.grid import Mode, expand, parse_grid_axis, parse_seeds
 from gcs.campaign.results_hydro import hydro_section
+from gcs.campaign.results_radio import BURST_MEANS_S, LOSS_CAMPAIGN, LOSS_GRID, RADIO_FIXED, burst_campaign, burst_fixed
+from gcs.campaign.results_radio import radio_section
 from gcs.campaign.store import read_rows
 from gcs.campaign.summary import Stats, distribution, failed_rows, finite_values, ok_rows
 
@@ -63,14 +65,25 @@ class Campaign:
     scenario: str
     seeds: str
     grid: tuple[str, ...] = ()
+    modes: tuple[Mode, ...] = (Mode.PAPER, Mode.IMPROVED)
+    fixed: tuple[str, ...] = ()
+    """``--set`` assignments shared by every run of the campaign."""
 
     def command(self) -> str:
         grid = "".join(f" --grid {g}" for g in self.grid)
-        return (f"python -m gcs.campaign {self.scenario} --seeds {self.seeds} --mode paper,improved{grid} "
+        fixed = "".join(f" --set {f}" for f in self.fixed)
+        modes = ",".join(m.value for m in self.modes)
+        return (f"python -m gcs.campaign {self.scenario} --seeds {self.seeds} --mode {modes}{grid}{fixed} "
                 f"--workers 1 --out {CAMPAIGN_ROOT / self.name}")
 
     def planned_runs(self) -> int:
-        return len(expand(self.scenario, list(Mode), parse_seeds(self.seeds), [parse_grid_axis(g) for g in self.grid]))
+        return len(expand(self.scenario, self.modes, parse_seeds(self.seeds), [parse_grid_axis(g) for g in self.grid],
+                          self.fixed))
+
+    @property
+    def plain(self) -> bool:
+        """A bundled scenario as it is: no grid, no overrides (a line of the "every scenario" table)."""
+        return not self.grid and not self.fixed
 
 
 CAMPAIGNS: tuple[Campaign, ...] = (
@@ -84,6 +97,8 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("breach", "breach", "1"),
     Campaign("river", "river", "1"),
     Campaign("pluvial", "pluvial", "1"),
+    Campaign(LOSS_CAMPAIGN, "circle", "1-20", (LOSS_GRID,), (Mode.IMPROVED,), RADIO_FIXED),
+    *(Campaign(burst_campaign(b), "circle", "1-20", (), (Mode.IMPROVED,), burst_fixed(b)) for b in BURST_MEANS_S),
 )
 
 PDOT_KEY = "grid:control.pdot_reading"
@@ -233,7 +248,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
     ]
     groups = []
     for campaign in CAMPAIGNS:
-        if campaign.grid:
+        if not campaign.plain:
             continue
         rows = ok.get(campaign.name, [])
         vehicles = next((str(r.get("vehicles")) for r in rows if r.get("vehicles") is not None), "—")
@@ -262,6 +277,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         "",
     ]
     out += hydro_section(ok)
+    out += radio_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == LOSS_CAMPAIGN))))
     failed = [(name, r) for name, rows in rows_by_campaign.items() for r in failed_rows(rows)]
     if failed:
         out += ["## Failed runs", "", "| campaign | mode | seed | grid cell | error |", "|---|---|---|---|---|"]

@@ -23,7 +23,6 @@ from comms.gcs_status import (
     VehicleStatusReport,
 )
 from comms.latest_buffer import LatestValueBuffer
-from comms.key_file import KEY_FILE_NAME
 from comms.messages import FLAG_LEAVING, FloodEdgeTruth, decode, encode
 from comms.signing import GROUND_STATION, Verifier
 from comms.swarm_link import wall_clock_us
@@ -35,6 +34,7 @@ from gcs.dashboard.ports import TOKEN_ENV, choose_port, dashboard_url, is_loopba
 from gcs.dashboard.vehicle_status import LinkView, vehicle_status
 from gcs.polygon.reports import georeference_offset_en_m, report_max_age_s
 from gcs.polygon.ring import ring_perimeter_m
+from gcs.processes.mission_phase import MissionPhase
 from gcs.report.geojson import ring_to_lonlat
 
 if TYPE_CHECKING:
@@ -104,12 +104,13 @@ class GcsDashboardLink:
         if now_wall_s >= self._due.status_s:
             self._hub.put(self._station.keys.vehicles, encode(self._report(watcher, now_wall_s)))
             self._due.status_s = now_wall_s + STATUS_PERIOD_S
-        if now_wall_s >= self._due.alerts_s and self._station.phase == "mission":
+        if now_wall_s >= self._due.alerts_s and self._station.phase is MissionPhase.MISSION:
             self._check_alerts()
             self._due.alerts_s = now_wall_s + ALERT_PERIOD_S
-        if now_wall_s >= self._due.flood_edge_s:
+        evaluation = self._station.evaluation
+        if evaluation is not None and now_wall_s >= self._due.flood_edge_s:
             flood_t_s = self._station.flood_time_s()
-            ring = ring_to_lonlat(self._station.flood.boundary_en_m(flood_t_s), self._station.scenario.home)
+            ring = ring_to_lonlat(evaluation.flood.boundary_en_m(flood_t_s), self._station.scenario.home)
             if ring:
                 edge = FloodEdgeTruth(flood_t_s=flood_t_s, ring_lonlat=[(p[0], p[1]) for p in ring])
                 self._hub.put(self._station.keys.flood_edge, encode(edge))
@@ -134,8 +135,8 @@ class GcsDashboardLink:
             self.order = new_order
             state = new_order.value if new_order is not None else "none (the mission goes on)"
             station.events(f"operator {request.command.value} requested{origin}: standing order {state}")
-            if station.phase in ("takeoff", "mission"):
-                self._send_command(self.command_for("start" if station.phase == "mission" else "phase"))
+            if station.phase.in_flight:
+                self._send_command(self.command_for("start" if station.phase is MissionPhase.MISSION else "phase"))
 
     def _verified(self, payload: bytes) -> bytes | None:
         """The request's body when the mission key signed it as the ground station (the dashboard holds the key),
@@ -158,7 +159,7 @@ class GcsDashboardLink:
     def _report(self, watcher: MavlinkWatcher, now_wall_s: float) -> VehicleStatusReport:
         station = self._station
         scenario = station.scenario
-        offset = georeference_offset_en_m(station.states.get(station.leader_id) if station.leader_id else None,
+        offset = georeference_offset_en_m(station.states.get(station.polygon.leader_id) if station.polygon.leader_id else None,
                                           scenario.home)
         failsafe_ids = {int(f.split(":")[0].split()[1]) for f in watcher.failsafes}
         rows = []
@@ -174,7 +175,7 @@ class GcsDashboardLink:
                 state_age_s=station.mission_t_s - state.t_s if state else float("inf"),
                 offset_en_m=(float(offset[0]), float(offset[1])), home=scenario.home, fov_deg=scenario.camera.fov_deg))
         return VehicleStatusReport(
-            t_s=station.mission_t_s, wall_s=time.time(), phase=station.phase, vehicles=rows,
+            t_s=station.mission_t_s, wall_s=time.time(), phase=station.phase.value, vehicles=rows,
             flood_t_s=station.flood_time_s() if station.flood_clock_start_s is not None else None,
             home_lat_deg=scenario.home.lat_deg, home_lon_deg=scenario.home.lon_deg,
             operator_order=self.order.value if self.order else "")
@@ -185,14 +186,14 @@ class GcsDashboardLink:
         if not station.recorder.polygons:
             return
         ring = station.recorder.polygons[-1].ring_en_m
-        offset = georeference_offset_en_m(station.states.get(station.leader_id) if station.leader_id else None,
+        offset = georeference_offset_en_m(station.states.get(station.polygon.leader_id) if station.polygon.leader_id else None,
                                           station.scenario.home)
         max_age_s = report_max_age_s(station.scenario.control_rate_hz)
         current: dict[tuple[str, int], str] = {}
         flying = {vid: s for vid, s in station.states.items()
                   if vid not in station.lost and not s.has(FLAG_LEAVING) and station.mission_t_s - s.t_s <= max_age_s}
         if station.recorder.encircle_time_s is not None:
-            order = list(station.ring_order)
+            order = list(station.polygon.ring_order)
             positions = np.array([np.asarray(flying[v].position_en_m) + offset if v in flying else (np.nan, np.nan)
                                   for v in order], dtype=float).reshape(-1, 2)
             for gap in ring_gaps(order, positions, ring_perimeter_m(ring)):
@@ -230,7 +231,8 @@ def start_dashboard_process(station: GroundStation) -> str | None:
     port = choose_port(host, options.dashboard_port)
     args = ["gcs.dashboard", "--mission", station.mission, "--connect", options.zenoh_endpoint, "--host", host,
             "--port", str(port)]
-    args += ["--key-file", str((station.out_dir / "plan" / KEY_FILE_NAME).resolve())]
+    if station.key_path is not None:
+        args += ["--key-file", str(station.key_path.resolve())]
     if options.dashboard_tiles is not None:
         args += ["--tiles", str(options.dashboard_tiles)]
     station.supervisor.start("dashboard", args, env={TOKEN_ENV: options.dashboard_token or ""})

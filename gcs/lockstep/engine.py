@@ -35,6 +35,8 @@ from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.scenario import Scenario
+from mission_plan.control_params import ControlMode
+from mission_plan.roles import Role
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
 from mission_plan.imaging import ImagingSpec, mean_wind_en_mps
@@ -127,7 +129,7 @@ def _perception_for(
 
 def run_lockstep(
     scenario: Scenario,
-    mode: str = "paper",
+    mode: str = ControlMode.PAPER,
     seed: int | None = None,
     duration_s: float | None = None,
     control_params: ControlParams | None = None,
@@ -141,7 +143,7 @@ def run_lockstep(
     boundary drones' (the only law that reads images, as the processes engine streams by default); the others then
     get no perception result.
     """
-    if cameras not in ("all", "boundary"):
+    if cameras not in ("all", Role.BOUNDARY):
         raise ValueError(f"cameras: must be all or boundary, got {cameras!r}")
     seed = scenario.seed if seed is None else seed
     duration_s = scenario.duration_s if duration_s is None else duration_s

@@ -20,11 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mission_plan.geometry import footprint_side_m
 
-def footprint_side_m(altitude_m: ArrayLike, fov_deg: float) -> NDArray[np.float64]:
-    """Ground footprint side [m] of a square downward camera: 2 h tan(fov/2); 0 at or below the ground."""
-    h = np.asarray(altitude_m, dtype=float)
-    return np.where(h > 0.0, 2.0 * h * math.tan(math.radians(fov_deg) / 2.0), 0.0)
+__all__ = ["CoverageGrid", "CoverageStats", "footprint_coverage", "footprint_side_m"]
 
 
 @dataclass(frozen=True)

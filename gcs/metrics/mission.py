@@ -10,7 +10,7 @@ seconds. "Final" values are those at the last sample (t = duration); "last 10 s"
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -23,11 +23,12 @@ from gcs.metrics.encircle import ring_closed_time_s
 from gcs.metrics.flood_extent import flood_extent_summary
 from gcs.metrics.polygon_quality import hausdorff_m, polygon_iou
 from gcs.metrics.recovery import recovery_time_s, vehicle_losses
-from gcs.metrics.safety import pairwise_safety
+from gcs.metrics.safety import SafetyStats, pairwise_safety
 from gcs.metrics.spacing import spacing_from_arcs
 from gcs.metrics.tracking import max_m, rms_m
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.ring import project_onto_ring, ring_area_m2, ring_perimeter_m
+from mission_plan.roles import Role
 from mock_autopilot.world.flood_model import FloodModel
 
 SCHEMA = "floodwatch.metrics/1"
@@ -55,8 +56,8 @@ def compute_mission_metrics(
     alive = _alive_mask(record, n_t, n_v) & np.all(np.isfinite(pos), axis=-1)
     sides = _footprint_sides(record, pos, alive, camera_fov_deg)
     roles = np.array(record.roles)
-    boundary = np.flatnonzero(roles == "boundary")
-    leaders = np.flatnonzero(roles == "leader")
+    boundary = np.flatnonzero(roles == Role.BOUNDARY.value)
+    leaders = np.flatnonzero(roles == Role.LEADER.value)
 
     rings = [np.asarray(flood.boundary_en_m(float(tk)), dtype=float) for tk in t]
     edge = _edge_series(pos, alive, boundary, rings)
@@ -66,18 +67,7 @@ def compute_mission_metrics(
     poly = _polygon_series(record.polygons, rings, t, polygon_period_s)
 
     last = t >= (t[-1] - LAST_WINDOW_S) if n_t else np.zeros(0, bool)
-    losses = []
-    for loss in vehicle_losses(t, alive):
-        losses.append(
-            {
-                "vehicle_id": record.vehicle_ids[loss.index],
-                "role": record.roles[loss.index],
-                "t_s": loss.t_s,
-                "recovery_time_s": recovery_time_s(t, edge["spacing_cv"], loss.t_s, CV_RECOVERED)
-                if record.roles[loss.index] == "boundary"
-                else math.nan,
-            }
-        )
+    losses = _losses(record, t, alive, edge["spacing_cv"])
 
     paths = path_lengths_m(pos, alive)
     speed = speeds_mps(t, pos, alive)
@@ -94,6 +84,44 @@ def compute_mission_metrics(
         "encircle_time_s": record.encircle_time_s if record.encircle_time_s is not None else ring_closed,
         "encircle_time_source": "engine" if record.encircle_time_s is not None else "truth (ring closed)",
         "ring_closed_time_s": ring_closed,
+        **_edge_summary(edge, last),
+        **_polygon_and_coverage_summary(poly, cov),
+        "flood_area_final_m2": float(flood.area_m2(float(t[-1]))) if n_t else math.nan,
+        **(flood_extent_summary(flood, float(t[0]), float(t[-1])) if n_t else {}),
+        "leader_centring_error_final_m": _final(centring),
+        "leader_centring_error_last_10s_mean_m": _nanmean(centring[last]),
+        **_safety_summary(record.vehicle_ids, safety),
+        "losses": len(losses),
+        "path_length_total_m": float(paths.sum()),
+        "path_length_mean_m": float(paths.mean()) if n_v else math.nan,
+        "boundary_speed_mean_mps": _nanmean(boundary_speed),
+        "boundary_speed_max_mps": max_m(boundary_speed),
+        "climb_events_total": int(sum(record.climb_events)) if len(record.climb_events) == n_v else None,
+        "climb_events_truth_total": int(climbs_truth.sum()),
+    }
+    per_vehicle = _per_vehicle(record, paths, speed, climbs_engine, climbs_truth, alive)
+    series = {"t_s": t, "tracking_rms_m": edge["rms"], "tracking_max_m": edge["max"], "spacing_cv": edge["spacing_cv"],
+              "max_gap_ratio": edge["max_gap_ratio"], "leader_centring_error_m": centring,
+              "min_pairwise_distance_m": safety.min_distance_series_m, "alive": alive.sum(axis=1)}
+    return _jsonable({
+        "schema": SCHEMA, "scenario": record.scenario, "mode": record.mode, "engine": record.engine,
+        "seed": record.seed, "camera_fov_deg": camera_fov_deg,
+        "footprints": "axis-aligned squares of side 2 h tan(fov/2), rasterised on a grid",
+        "coverage_cell_m": cov["cell_m"],
+        "summary": summary,
+        "losses": losses,
+        "near_miss_pairs": [[record.vehicle_ids[i], record.vehicle_ids[j]] for i, j in safety.near_miss_pairs],
+        "per_vehicle": per_vehicle,
+        "series": series,
+        "coverage_series": {k: cov[k] for k in ("t_s", "coverage", "upper_bound", "overlap_efficiency",
+                                                 "flood_area_m2", "drone_ring_iou")},
+        "polygon_series": {k: poly[k] for k in ("t_s", "iou", "hausdorff_m", "area_m2", "perimeter_m")},
+    })
+
+
+def _edge_summary(edge: Mapping[str, NDArray[np.float64]], last: NDArray[np.bool_]) -> dict[str, float]:
+    """Edge tracking (eq 5) and ring spacing (eqs 6-8), over the run and its last 10 s."""
+    return {
         "tracking_rms_m": rms_m(edge["errors"]),
         "tracking_max_m": max_m(edge["errors"]),
         "tracking_rms_last_10s_m": rms_m(edge["errors"][last]),
@@ -101,6 +129,12 @@ def compute_mission_metrics(
         "spacing_cv_final": _final(edge["spacing_cv"]),
         "max_gap_ratio_final": _final(edge["max_gap_ratio"]),
         "spacing_cv_last_10s_mean": _nanmean(edge["spacing_cv"][last]),
+    }
+
+
+def _polygon_and_coverage_summary(poly: Mapping[str, Any], cov: Mapping[str, Any]) -> dict[str, float]:
+    """The caged polygon against the truth, and the cameras' coverage of the water (SPEC §5)."""
+    return {
         "polygon_iou_final": _final(poly["iou"]),
         "polygon_hausdorff_final_m": _final(poly["hausdorff_m"]),
         "polygon_iou_mean": _nanmean(poly["iou"]),
@@ -110,24 +144,39 @@ def compute_mission_metrics(
         "coverage_upper_bound_final": _final(cov["upper_bound"]),
         "overlap_efficiency_final": _final(cov["overlap_efficiency"]),
         "coverage_mean": _nanmean(cov["coverage"]),
-        "flood_area_final_m2": float(flood.area_m2(float(t[-1]))) if n_t else math.nan,
-        **(flood_extent_summary(flood, float(t[0]), float(t[-1])) if n_t else {}),
-        "leader_centring_error_final_m": _final(centring),
-        "leader_centring_error_last_10s_mean_m": _nanmean(centring[last]),
+    }
+
+
+def _safety_summary(vehicle_ids: Sequence[int], safety: SafetyStats) -> dict[str, Any]:
+    """The closest approach over the run and the pairs that came closer than :data:`NEAR_MISS_M`."""
+    return {
         "min_pairwise_distance_m": safety.min_distance_m,
-        "closest_pair_ids": [record.vehicle_ids[i] for i in safety.closest_pair] if safety.closest_pair else None,
+        "closest_pair_ids": [vehicle_ids[i] for i in safety.closest_pair] if safety.closest_pair else None,
         "near_miss_threshold_m": NEAR_MISS_M,
         "near_miss_pairs": len(safety.near_miss_pairs),
         "near_miss_events": safety.near_miss_events,
-        "losses": len(losses),
-        "path_length_total_m": float(paths.sum()),
-        "path_length_mean_m": float(paths.mean()) if n_v else math.nan,
-        "boundary_speed_mean_mps": _nanmean(boundary_speed),
-        "boundary_speed_max_mps": max_m(boundary_speed),
-        "climb_events_total": int(sum(record.climb_events)) if len(record.climb_events) == n_v else None,
-        "climb_events_truth_total": int(climbs_truth.sum()),
     }
-    per_vehicle = {
+
+
+def _losses(record: MissionRecord, t: NDArray[np.float64], alive: NDArray[np.bool_],
+            spacing_cv: NDArray[np.float64]) -> list[dict[str, Any]]:
+    """Every vehicle lost during the run, with the ring's recovery time after a boundary drone's loss."""
+    return [
+        {
+            "vehicle_id": record.vehicle_ids[loss.index],
+            "role": record.roles[loss.index],
+            "t_s": loss.t_s,
+            "recovery_time_s": recovery_time_s(t, spacing_cv, loss.t_s, CV_RECOVERED)
+            if record.roles[loss.index] == Role.BOUNDARY else math.nan,
+        }
+        for loss in vehicle_losses(t, alive)
+    ]
+
+
+def _per_vehicle(record: MissionRecord, paths: NDArray[np.float64], speed: NDArray[np.float64],
+                 climbs_engine: list[Any], climbs_truth: NDArray[np.int_], alive: NDArray[np.bool_]) -> dict[str, Any]:
+    """Each vehicle's path, speeds, Algorithm 1 climbs (engine and truth) and whether it flew to the end."""
+    return {
         str(vid): {
             "role": record.roles[i],
             "path_length_m": float(paths[i]),
@@ -135,38 +184,10 @@ def compute_mission_metrics(
             "max_speed_mps": max_m(speed[:, i]) if len(speed) else math.nan,
             "climb_events": climbs_engine[i],
             "climb_events_truth": int(climbs_truth[i]),
-            "alive_at_end": bool(alive[-1, i]) if n_t else False,
+            "alive_at_end": bool(alive[-1, i]) if len(alive) else False,
         }
         for i, vid in enumerate(record.vehicle_ids)
     }
-    return _jsonable(
-        {
-            "schema": SCHEMA,
-            "scenario": record.scenario,
-            "mode": record.mode,
-            "engine": record.engine,
-            "seed": record.seed,
-            "camera_fov_deg": camera_fov_deg,
-            "footprints": "axis-aligned squares of side 2 h tan(fov/2), rasterised on a grid",
-            "coverage_cell_m": cov["cell_m"],
-            "summary": summary,
-            "losses": losses,
-            "near_miss_pairs": [[record.vehicle_ids[i], record.vehicle_ids[j]] for i, j in safety.near_miss_pairs],
-            "per_vehicle": per_vehicle,
-            "series": {
-                "t_s": t,
-                "tracking_rms_m": edge["rms"],
-                "tracking_max_m": edge["max"],
-                "spacing_cv": edge["spacing_cv"],
-                "max_gap_ratio": edge["max_gap_ratio"],
-                "leader_centring_error_m": centring,
-                "min_pairwise_distance_m": safety.min_distance_series_m,
-                "alive": alive.sum(axis=1),
-            },
-            "coverage_series": {k: cov[k] for k in ("t_s", "coverage", "upper_bound", "overlap_efficiency", "flood_area_m2", "drone_ring_iou")},
-            "polygon_series": {k: poly[k] for k in ("t_s", "iou", "hausdorff_m", "area_m2", "perimeter_m")},
-        }
-    )
 
 
 def _alive_mask(record: MissionRecord, n_t: int, n_v: int) -> NDArray[np.bool_]:

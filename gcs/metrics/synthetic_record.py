@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from gcs.metrics.coverage import footprint_side_m
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.caged import caged_polygon
+from mission_plan.roles import Role
 from mock_autopilot.world.flood_model import ExpandingCircle
 
 
@@ -42,7 +43,7 @@ def synthetic_circle_record(
     rng = np.random.default_rng(seed)
     t = np.arange(int(round(duration_s * rate_hz)) + 1) / rate_hz
     n_v = 1 + n_followers + n_boundary
-    roles = ["leader"] + ["follower"] * n_followers + ["boundary"] * n_boundary
+    roles = [Role.LEADER] + [Role.FOLLOWER] * n_followers + [Role.BOUNDARY] * n_boundary
     pos = np.zeros((len(t), n_v, 3))
     alive = np.ones((len(t), n_v), bool)
     cx, cy = flood.center_en_m
@@ -61,15 +62,7 @@ def synthetic_circle_record(
 
     sides = np.where(alive, footprint_side_m(pos[..., 2], fov_deg), 0.0)
     boundary = np.arange(1 + n_followers, n_v)
-    polygons = []
-    next_poly = 0.0
-    for k, tk in enumerate(t):
-        if tk + 1e-9 < next_poly:
-            continue
-        next_poly += polygon_period_s
-        live = boundary[alive[k, boundary]]
-        edges = [_visible_edge(flood, float(tk), pos[k, i, :2], sides[k, i], edge_noise_m, rng) for i in live]
-        polygons.append(PolygonSample(float(tk), caged_polygon(pos[k, live, :2], edges)))
+    polygons = _polygons(flood, t, pos, alive, sides, boundary, polygon_period_s, edge_noise_m, rng)
 
     record = MissionRecord(
         scenario="circle",
@@ -88,6 +81,22 @@ def synthetic_circle_record(
         climb_events=[0] * n_v,
     )
     return record, flood
+
+
+def _polygons(flood: ExpandingCircle, t: NDArray[np.float64], pos: NDArray[np.float64], alive: NDArray[np.bool_],
+              sides: NDArray[np.float64], boundary: NDArray[np.int_], period_s: float, edge_noise_m: float,
+              rng: np.random.Generator) -> list[PolygonSample]:
+    """The caged polygon every ``period_s`` from what the live boundary drones' footprints see of the edge."""
+    polygons = []
+    next_poly = 0.0
+    for k, tk in enumerate(t):
+        if tk + 1e-9 < next_poly:
+            continue
+        next_poly += period_s
+        live = boundary[alive[k, boundary]]
+        edges = [_visible_edge(flood, float(tk), pos[k, i, :2], sides[k, i], edge_noise_m, rng) for i in live]
+        polygons.append(PolygonSample(float(tk), caged_polygon(pos[k, live, :2], edges)))
+    return polygons
 
 
 def _follower_offsets(n: int, radius_m: float) -> NDArray[np.float64]:

@@ -18,6 +18,7 @@ from gcs.dashboard.cli_checks import check_dashboard_args
 from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
+from mission_plan.control_params import ControlMode
 from mock_autopilot.world.hydro_cache import CACHE_ENV
 from vehicle_agents.control.params import MODES
 
@@ -30,7 +31,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--backend", choices=BACKENDS, default=None,
                         help="lockstep vehicle dynamics: kinematic (default) or px4, the mock PX4 itself (modes, "
                              "failsafes); the processes engine always flies the mock PX4 fleet")
-    parser.add_argument("--mode", choices=MODES, default="improved",
+    parser.add_argument("--mode", choices=MODES, default=ControlMode.IMPROVED.value,
                         help="control laws: improved (default) or paper, the laws as printed (docs/RESULTS.md)")
     parser.add_argument("--seed", type=int, default=None, help="seed for the flood, camera noise and radio")
     parser.add_argument("--duration", type=float, default=None, metavar="S", help="simulated seconds (default: scenario)")

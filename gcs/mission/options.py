@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from mission_plan.control_params import ControlMode
+
 ENGINES = ("processes", "lockstep")
 CLOCKS = ("paced", "free")
 """The processes engine's simulation clock: ``paced`` waits at each control tick for every live agent, the
@@ -26,7 +28,7 @@ class MissionOptions:
 
     scenario: str
     engine: str = "processes"
-    mode: str = "improved"
+    mode: str = ControlMode.IMPROVED
     seed: int | None = None
     duration_s: float | None = None
     speed: float = 1.0

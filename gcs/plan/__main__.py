@@ -21,7 +21,7 @@ from comms.keys import KeyNameError, validate_mission
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.plan.files import write_plans
 from gcs.scenario import ScenarioError, check_flood, load_scenario
-from mission_plan.control_params import MODES
+from mission_plan.control_params import MODES, ControlMode
 
 def build_parser() -> argparse.ArgumentParser:
     p = OneLineArgumentParser(prog="python -m gcs.plan", description="Write a scenario's plan files for deployment.",
@@ -30,7 +30,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder for the plan files")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                    help="override a scenario parameter (repeatable)")
-    p.add_argument("--mode", choices=MODES, default="improved", help="control laws (default improved)")
+    p.add_argument("--mode", choices=MODES, default=ControlMode.IMPROVED.value, help="control laws (default improved)")
     p.add_argument("--seed", type=int, default=None, help="mission seed (default: the scenario's)")
     p.add_argument("--mission", help="mission name in the Zenoh keys (default: the scenario name)")
     p.add_argument("--key-file", type=Path, default=None, metavar="FILE",

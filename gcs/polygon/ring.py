@@ -14,22 +14,9 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import LineString, Polygon
 
+from mission_plan.geometry import open_ring, signed_area_m2
 
-def open_ring(ring_en_m: ArrayLike) -> NDArray[np.float64]:
-    """The ring as a float (K, 2) array without a repeated closing vertex."""
-    ring = np.asarray(ring_en_m, dtype=float).reshape(-1, 2)
-    if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
-        ring = ring[:-1]
-    return ring
-
-
-def signed_area_m2(ring_en_m: ArrayLike) -> float:
-    """Shoelace area [m²]: positive for a counter-clockwise ring (east right, north up)."""
-    ring = open_ring(ring_en_m)
-    if len(ring) < 3:
-        return 0.0
-    x, y = ring[:, 0], ring[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+__all__ = ["open_ring", "signed_area_m2"]
 
 
 def ring_area_m2(ring_en_m: ArrayLike) -> float:

@@ -10,6 +10,7 @@ together ~0.55 core for 13 vehicles, growing slowly with the fleet.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 NICE_WEIGHTS = (1024, 820, 655, 526, 423, 335, 272, 215, 172, 137, 110, 87, 70, 56, 45, 36, 29, 23, 18, 15)
@@ -80,3 +81,9 @@ def estimate_capacity(vehicles: int, control_rate_hz: float, speed: float, avail
     agents = vehicles * (AGENT_FIXED_CORES + AGENT_CORES_PER_HZ * wall_rate_hz)
     services = SERVICES_CORES + SERVICES_CORES_PER_VEHICLE * vehicles
     return CapacityEstimate(needed_cores=agents + services, available_cores=max(1, available_cores))
+
+
+def host_warning(vehicles: int, control_rate_hz: float, speed: float, paced: bool) -> str | None:
+    """The one line to show when this machine (the cores this process may use) is not expected to keep up."""
+    estimate = estimate_capacity(vehicles, control_rate_hz, speed, len(os.sched_getaffinity(0)))
+    return estimate.warning(vehicles, control_rate_hz, speed, paced=paced)

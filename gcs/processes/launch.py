@@ -15,6 +15,7 @@ import numpy as np
 from comms.zenoh_session import DEFAULT_ENDPOINT
 from gcs.polygon.radio_node import antenna_enu_m
 from gcs.scenario import Scenario
+from mission_plan.control_params import ControlMode
 from mock_autopilot.ports import onboard_port
 
 
@@ -25,7 +26,7 @@ class ProcessOptions:
     scenario_arg: str
     """The scenario name or TOML path, as given on the command line (for the record; children read plan files)."""
     overrides: tuple[str, ...] = ()
-    mode: str = "improved"
+    mode: str = ControlMode.IMPROVED
     seed: int | None = None
     duration_s: float | None = None
     speed: float = 1.0

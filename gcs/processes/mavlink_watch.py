@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, BinaryIO
 
-from gcs.processes.mavlink_frames import MAV_MODE_FLAG_SAFETY_ARMED, px4_mode_name, split_frames
+from comms.px4 import is_armed, landed_state_name, mode_name, split_frames
 
 os.environ.setdefault("MAVLINK20", "1")
 from pymavlink.dialects.v20 import common as mavlink2  # noqa: E402  (MAVLINK20 must be set first)
@@ -33,7 +33,6 @@ _DECODE_PERIOD_S = 0.2
 """Telemetry for the view is decoded at most 5 times a second per vehicle and message; every frame is logged."""
 _TLOG_FLUSH_PERIOD_S = 1.0
 _GCS_SYSTEM_ID = 255
-_LANDED_STATES = {0: "unknown", 1: "on ground", 2: "in air", 3: "takeoff", 4: "landing"}
 
 
 @dataclass
@@ -124,8 +123,8 @@ class MavlinkWatcher(asyncio.DatagramProtocol):
         if kind == "HEARTBEAT":
             if msg.autopilot == mavlink2.MAV_AUTOPILOT_INVALID:
                 return
-            mode = px4_mode_name(msg.custom_mode)
-            armed = bool(msg.base_mode & MAV_MODE_FLAG_SAFETY_ARMED)
+            mode = mode_name(msg.custom_mode)
+            armed = is_armed(msg.base_mode)
             if vehicle.last_heartbeat_monotonic_s and (mode != vehicle.mode or armed != vehicle.armed):
                 self._on_event(f"vehicle {vehicle.system_id}: {'armed' if armed else 'disarmed'}, mode {mode}")
             vehicle.mode, vehicle.armed, vehicle.system_status = mode, armed, msg.system_status
@@ -135,7 +134,7 @@ class MavlinkWatcher(asyncio.DatagramProtocol):
         elif kind == "SYS_STATUS":
             vehicle.battery_fraction = msg.battery_remaining / 100.0 if msg.battery_remaining >= 0 else float("nan")
         elif kind == "EXTENDED_SYS_STATE":
-            vehicle.landed_state = _LANDED_STATES.get(msg.landed_state, str(msg.landed_state))
+            vehicle.landed_state = landed_state_name(msg.landed_state)
         elif kind == "STATUSTEXT":
             text = (msg.text if isinstance(msg.text, str) else bytes(msg.text).decode("utf-8", "replace")).rstrip(chr(0))
             self._on_event(f"vehicle {vehicle.system_id} says: {text}")

@@ -10,14 +10,18 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.collections import LineCollection, PathCollection, PolyCollection
 from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.text import Text
 from numpy.typing import NDArray
 from PIL import Image
 
@@ -47,6 +51,102 @@ def polygon_at(samples: Sequence[PolygonSample], t_s: float) -> PolygonSample | 
     return best
 
 
+@dataclass(frozen=True)
+class _Track:
+    """The record's arrays the frames are drawn from: times [s], positions [m; ENU], who is alive, footprint sides."""
+
+    t_s: NDArray[np.float64]
+    positions_enu_m: NDArray[np.float64]
+    alive: NDArray[np.bool_]
+    sides_m: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, record: MissionRecord) -> _Track:
+        pos = np.asarray(record.positions_enu_m, dtype=float)
+        alive = np.asarray(record.alive, dtype=bool)
+        sides = np.asarray(record.footprint_side_m, dtype=float)
+        return cls(np.asarray(record.t_s, dtype=float), pos,
+                   alive if alive.shape == pos.shape[:2] else np.ones(pos.shape[:2], bool),
+                   sides if sides.shape == pos.shape[:2] else np.zeros(pos.shape[:2]))
+
+
+@dataclass(frozen=True)
+class _Artists:
+    """The artists that change from frame to frame (everything else is drawn once)."""
+
+    water: PolyCollection
+    footprints: PolyCollection
+    trails: LineCollection
+    caged_line: Line2D
+    dots: PathCollection
+    title: Text
+
+    def all(self) -> list[Any]:
+        return [self.water, self.footprints, self.trails, self.caged_line, self.dots, self.title]
+
+
+def _axes(fig: Figure, lo: NDArray[np.float64], hi: NDArray[np.float64]) -> Axes:
+    ax = fig.subplots()
+    fig.subplots_adjust(left=0.13, right=0.97, bottom=0.2, top=0.94)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("East [m]", fontsize=8)
+    ax.set_ylabel("North [m]", fontsize=8)
+    ax.tick_params(labelsize=7)
+    ax.grid(True, lw=0.3, alpha=0.5)
+    return ax
+
+
+def _artists(ax: Axes, record: MissionRecord, colours: Sequence[str]) -> _Artists:
+    """The moving artists, and a legend (with the roles' colours for a fleet too big to tell apart)."""
+    big_fleet = len(record.vehicle_ids) > 13
+    artists = _Artists(
+        water=PolyCollection([], facecolors="#9ecae1", edgecolors="#3182bd", linewidths=1.0, zorder=1),
+        footprints=PolyCollection([], facecolors="none", linewidths=0.4 if big_fleet else 0.8, zorder=2),
+        trails=LineCollection([], linewidths=1.0, zorder=3),
+        caged_line=ax.plot([], [], color="black", lw=1.8, zorder=5)[0],
+        dots=ax.scatter(np.zeros(len(colours)), np.zeros(len(colours)), s=8 if big_fleet else 18, c=colours,
+                        edgecolors="black", linewidths=0.4, zorder=6),
+        title=ax.set_title("", fontsize=9),
+    )
+    for collection in (artists.water, artists.footprints, artists.trails):
+        ax.add_collection(collection)
+    for role, colour in ROLE_COLOURS.items():
+        if role in record.roles and big_fleet:
+            ax.plot([], [], "o", color=colour, ms=4, label=role)
+    ax.fill([], [], facecolor="#9ecae1", edgecolor="#3182bd", label="flood (truth)")
+    ax.plot([], [], color="grey", lw=0.8, label="camera footprint")
+    ax.plot([], [], color="black", lw=1.8, label="caged polygon")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize=6.5, frameon=False)
+    return artists
+
+
+def _draw(a: _Artists, k: int, track: _Track, record: MissionRecord, flood: FloodModel, colours: Sequence[str],
+          coverage: Callable[[float], float | None]) -> None:
+    """Set every moving artist to sample ``k``."""
+    tk = float(track.t_s[k])
+    a.water.set_verts([np.asarray(flood.boundary_en_m(tk))])
+    live = track.alive[k]
+    seen = np.flatnonzero(live & (track.sides_m[k] > 0))
+    a.footprints.set_verts([_square(track.positions_enu_m[k, i, :2], track.sides_m[k, i]) for i in seen])
+    a.footprints.set_edgecolor([to_rgba(colours[i], 0.85) for i in seen])
+    start = np.searchsorted(track.t_s, tk - TRAIL_S)
+    a.trails.set_segments([track.positions_enu_m[start : k + 1, i, :2] for i in np.flatnonzero(live)])
+    a.trails.set_color([colours[i] for i in np.flatnonzero(live)])
+    a.dots.set_offsets(np.where(live[:, None], track.positions_enu_m[k, :, :2], np.nan))
+    sample = polygon_at(record.polygons, tk)
+    ring = np.asarray(sample.ring_en_m, dtype=float) if sample is not None else np.zeros((0, 2))
+    if len(ring) >= 3:
+        closed = np.vstack([ring, ring[:1]])
+        a.caged_line.set_data(closed[:, 0], closed[:, 1])
+    else:
+        a.caged_line.set_data([], [])
+    cov = coverage(tk)
+    cov_text = f"   coverage {100 * cov:.0f}%" if cov is not None else ""
+    a.title.set_text(f"{record.scenario} ({record.mode})   t = {tk:5.1f} s{cov_text}")
+
+
 def write_animation(
     record: MissionRecord,
     flood: FloodModel,
@@ -58,87 +158,24 @@ def write_animation(
     size_px: int = 420,
 ) -> Path:
     """Render the run as a GIF into ``out_path``; ``metrics`` (compute_mission_metrics output) adds coverage to titles."""
-    t = np.asarray(record.t_s, dtype=float)
-    pos = np.asarray(record.positions_enu_m, dtype=float)
-    alive = np.asarray(record.alive, dtype=bool)
-    if alive.shape != pos.shape[:2]:
-        alive = np.ones(pos.shape[:2], bool)
-    sides = np.asarray(record.footprint_side_m, dtype=float)
-    if sides.shape != pos.shape[:2]:
-        sides = np.zeros(pos.shape[:2])
-    frames = frame_indices(len(t), max_frames)
+    track = _Track.of(record)
     colours = vehicle_colours(record)
     coverage = _coverage_lookup(metrics)
-
     dpi = 100
-    big_fleet = len(record.vehicle_ids) > 13
     fig = Figure(figsize=(size_px / dpi, 1.12 * size_px / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
-    ax = fig.subplots()
-    fig.subplots_adjust(left=0.13, right=0.97, bottom=0.2, top=0.94)
-    lo, hi = _extent(record, flood, t, pos, alive)
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal")
-    ax.set_xlabel("East [m]", fontsize=8)
-    ax.set_ylabel("North [m]", fontsize=8)
-    ax.tick_params(labelsize=7)
-    ax.grid(True, lw=0.3, alpha=0.5)
-
-    water = PolyCollection([], facecolors="#9ecae1", edgecolors="#3182bd", linewidths=1.0, zorder=1)
-    footprints = PolyCollection([], facecolors="none", linewidths=0.4 if big_fleet else 0.8, zorder=2)
-    trails = LineCollection([], linewidths=1.0, zorder=3)
-    ax.add_collection(water)
-    ax.add_collection(footprints)
-    ax.add_collection(trails)
-    caged_line, = ax.plot([], [], color="black", lw=1.8, zorder=5)
-    dots = ax.scatter(np.zeros(len(colours)), np.zeros(len(colours)), s=8 if big_fleet else 18, c=colours, edgecolors="black", linewidths=0.4, zorder=6)
-    title = ax.set_title("", fontsize=9)
-    for role, colour in ROLE_COLOURS.items():
-        if role in record.roles and big_fleet:
-            ax.plot([], [], "o", color=colour, ms=4, label=role)
-    ax.fill([], [], facecolor="#9ecae1", edgecolor="#3182bd", label="flood (truth)")
-    ax.plot([], [], color="grey", lw=0.8, label="camera footprint")
-    ax.plot([], [], color="black", lw=1.8, label="caged polygon")
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize=6.5, frameon=False)
-
-    def draw(k: int) -> list[Any]:
-        tk = float(t[k])
-        edge = np.asarray(flood.boundary_en_m(tk))
-        water.set_verts([edge])
-        live = alive[k]
-        squares = [_square(pos[k, i, :2], sides[k, i]) for i in np.flatnonzero(live & (sides[k] > 0))]
-        footprints.set_verts(squares)
-        seen = [colours[i] for i in np.flatnonzero(live & (sides[k] > 0))]
-        footprints.set_edgecolor([to_rgba(c, 0.85) for c in seen])
-        start = np.searchsorted(t, tk - TRAIL_S)
-        segments = [pos[start : k + 1, i, :2] for i in np.flatnonzero(live)]
-        trails.set_segments(segments)
-        trails.set_color([colours[i] for i in np.flatnonzero(live)])
-        dots.set_offsets(np.where(live[:, None], pos[k, :, :2], np.nan))
-        sample = polygon_at(record.polygons, tk)
-        ring = np.asarray(sample.ring_en_m, dtype=float) if sample is not None else np.zeros((0, 2))
-        if len(ring) >= 3:
-            closed = np.vstack([ring, ring[:1]])
-            caged_line.set_data(closed[:, 0], closed[:, 1])
-        else:
-            caged_line.set_data([], [])
-        cov = coverage(tk)
-        cov_text = f"   coverage {100 * cov:.0f}%" if cov is not None else ""
-        title.set_text(f"{record.scenario} ({record.mode})   t = {tk:5.1f} s{cov_text}")
-        return [water, footprints, trails, caged_line, dots, title]
-
-    dynamic = [water, footprints, trails, caged_line, dots, title]
-    for artist in dynamic:
+    lo, hi = _extent(record, flood, track.t_s, track.positions_enu_m, track.alive)
+    artists = _artists(_axes(fig, lo, hi), record, colours)
+    for artist in artists.all():
         artist.set_animated(True)
     canvas = fig.canvas
     canvas.draw()
     background = canvas.copy_from_bbox(fig.bbox)
     images = []
-    for k in frames:
-        draw(int(k))
+    for k in frame_indices(len(track.t_s), max_frames):
+        _draw(artists, int(k), track, record, flood, colours, coverage)
         canvas.restore_region(background)
-        for artist in dynamic:
+        for artist in artists.all():
             fig.draw_artist(artist)
         images.append(Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3].copy()))
     out = Path(out_path)

@@ -17,6 +17,7 @@ from matplotlib.figure import Figure
 
 from gcs.metrics.polygon_quality import polygon_iou
 from gcs.mission_record import MissionRecord
+from mission_plan.roles import Role
 from mock_autopilot.world.flood_model import FloodModel
 
 PAPER_COLOURS = [
@@ -34,8 +35,8 @@ PAPER_COLOURS = [
     "#c51b7d",  # dark pink
     "#808000",  # olive
 ]
-ROLE_COLOURS = {"boundary": "#e6a700", "leader": "#d62728", "follower": "#2ca02c"}
-ROLE_MARKERS = {"boundary": "^", "leader": "*", "follower": "s"}
+ROLE_COLOURS = {Role.BOUNDARY: "#e6a700", Role.LEADER: "#d62728", Role.FOLLOWER: "#2ca02c"}
+ROLE_MARKERS = {Role.BOUNDARY: "^", Role.LEADER: "*", Role.FOLLOWER: "s"}
 EDGE_SHADES = ["#9ecae1", "#6baed6", "#3182bd", "#08519c", "#08306b"]
 
 

@@ -20,29 +20,13 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass
-from typing import Mapping, Protocol, Sequence, runtime_checkable
+from typing import Protocol, Sequence, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from mock_autopilot.px4_modes import Px4Mode
+from comms.px4 import MAVSDK_MODE_NAMES
 
-MAVSDK_MODE_NAMES: Mapping[str, str] = {
-    Px4Mode.MANUAL.value: "MANUAL",
-    Px4Mode.ALTCTL.value: "ALTCTL",
-    Px4Mode.POSCTL.value: "POSCTL",
-    Px4Mode.OFFBOARD.value: "OFFBOARD",
-    Px4Mode.STABILIZED.value: "STABILIZED",
-    Px4Mode.AUTO_READY.value: "READY",
-    Px4Mode.AUTO_TAKEOFF.value: "TAKEOFF",
-    Px4Mode.AUTO_LOITER.value: "HOLD",
-    Px4Mode.AUTO_MISSION.value: "MISSION",
-    Px4Mode.AUTO_RTL.value: "RETURN_TO_LAUNCH",
-    Px4Mode.AUTO_LAND.value: "LAND",
-}
-"""``BackendState.flight_mode`` (PX4's own names, as QGroundControl and ``FleetTruth.modes`` show them) -> the name
-MAVSDK's ``FlightMode`` gives the same mode, which is what an onboard agent's telemetry carries
-(``AutopilotTelemetry.flight_mode``). The two agree on OFFBOARD, the mode the flight phase tests."""
 
 
 class VehicleRequest(enum.Enum):
@@ -72,7 +56,7 @@ class BackendState:
 
     position_ned_m [m; (N,3) local NED from each vehicle's pad], velocity_ned_mps [m/s; (N,3) NED], yaw_ned_rad
     [rad; (N,) clockwise from north], armed / in_air / alive [(N,) bool], flight_mode (N PX4 mode names, the
-    values of :class:`mock_autopilot.px4_modes.Px4Mode`: "OFFBOARD", "POSCTL", "AUTO.LOITER", "AUTO.LAND", ...;
+    values of :class:`comms.px4.Px4Mode`: "OFFBOARD", "POSCTL", "AUTO.LOITER", "AUTO.LAND", ...;
     see :data:`MAVSDK_MODE_NAMES` for MAVSDK's spelling), battery_fraction [(N,) 0..1]. The arrays are read-only;
     equality is identity (arrays have no single truth value).
     """

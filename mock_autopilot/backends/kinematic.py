@@ -32,11 +32,11 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from comms.px4 import Px4Mode
 from mock_autopilot.backends.interface import BackendState, VehicleRequest, read_only, step_inputs
 from mock_autopilot.kinematics import KinematicLimits
-from mock_autopilot.px4_modes import Px4Mode
 from mock_autopilot.px4_params import PARAM_SPECS
-from mock_autopilot.vehicle import GRAVITY_MPS2, GROUND_TOLERANCE_M
+from mock_autopilot.vehicle_state import GRAVITY_MPS2, GROUND_TOLERANCE_M
 
 LAND_SPEED_MPS = PARAM_SPECS["MPC_LAND_SPEED"].default
 """PX4's default MPC_LAND_SPEED [m/s]: the descent speed of AUTO.LAND (the mock PX4 reads the same default)."""

@@ -39,15 +39,15 @@ from numpy.typing import ArrayLike, NDArray
 from pymavlink.dialects.v20 import common as mavlink
 
 from comms.frames import GeodeticHome
+from comms.px4 import MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, MAV_MODE_FLAG_SAFETY_ARMED, MODE_TABLE, LandedState, MavResult, Px4Mode
 from mock_autopilot.backends.interface import BackendState, VehicleRequest, step_inputs
 from mock_autopilot.dynamics_params import px4_params
 from mock_autopilot.kinematics import KinematicLimits
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
-from mock_autopilot.px4_modes import MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, MAV_MODE_FLAG_SAFETY_ARMED, MODE_TABLE, Px4Mode
 from mock_autopilot.px4_params import PARAM_SPECS, encode_param_value
 from mock_autopilot.px4_streams import GCS, ONBOARD
 from mock_autopilot.setpoints import IGNORE_YAW, MASK_VELOCITY_AND_YAW, MAV_FRAME_LOCAL_NED
-from mock_autopilot.vehicle import MAV_RESULT_ACCEPTED, LandedState, Outgoing, Vehicle, VehicleConfig
+from mock_autopilot.vehicle import Outgoing, Vehicle, VehicleConfig
 
 STREAM_PROFILE = "minimal"
 AUTOPILOT_COMPONENT_ID = 1
@@ -219,7 +219,7 @@ class Px4Backend:
                 if phases[i] in (_Climb.OFFBOARD, _Climb.SETTLE, _Climb.READY) and not vehicle.killed:
                     vehicle.handle(ONBOARD, self._setpoint_message(vehicle, zero, vehicle.yaw_rad, t), t)
                 if phases[i] is _Climb.OFFBOARD:
-                    if self._request(i, VehicleRequest.START_OFFBOARD, t) == MAV_RESULT_ACCEPTED:
+                    if self._request(i, VehicleRequest.START_OFFBOARD, t) == MavResult.ACCEPTED:
                         phases[i], settled_at[i] = _Climb.SETTLE, t + self.settle_s
                 elif phases[i] is _Climb.SETTLE and t >= settled_at[i]:
                     phases[i] = _Climb.READY if self._at_rest(vehicle, OFFBOARD_SETTLED_MPS) else phases[i]
@@ -234,9 +234,9 @@ class Px4Backend:
             raise RuntimeError(f"hover_start: vehicle {vehicle.system_id} disarmed at {phase.value} "
                                f"({vehicle.mode.value}): {'; '.join(self._texts[i])}")
         if phase is _Climb.ARM and vehicle.arming_denial(t) is None:  # MAVSDK's health.is_armable (PREARM bit)
-            if self._request(i, VehicleRequest.ARM, t) == MAV_RESULT_ACCEPTED:
+            if self._request(i, VehicleRequest.ARM, t) == MavResult.ACCEPTED:
                 phase = _Climb.TAKEOFF
-        if phase is _Climb.TAKEOFF and self._request(i, VehicleRequest.TAKEOFF, t) == MAV_RESULT_ACCEPTED:
+        if phase is _Climb.TAKEOFF and self._request(i, VehicleRequest.TAKEOFF, t) == MavResult.ACCEPTED:
             return _Climb.CLIMB
         if phase is _Climb.CLIMB and vehicle.mode is Px4Mode.AUTO_LOITER:
             settled = abs(float(vehicle.position_ned_m[2]) + altitude_m) <= HOLD_SETTLED_M

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from mission_plan.geometry import footprint_side_m
+
 
 @dataclass(frozen=True)
 class CameraModel:
@@ -29,7 +31,7 @@ class CameraModel:
 
     def footprint_side_m(self, altitude_m: float) -> float:
         """Ground width of the image [m]: ``2 h tan(fov/2)`` (SPEC §3)."""
-        return 2.0 * max(altitude_m, 0.0) * math.tan(math.radians(self.fov_deg) / 2.0)
+        return float(footprint_side_m(altitude_m, self.fov_deg))
 
     def footprint_height_m(self, altitude_m: float) -> float:
         """Ground extent along the image's vertical axis [m] (equal to the side for a square image)."""

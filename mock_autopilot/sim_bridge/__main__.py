@@ -26,9 +26,11 @@ import numpy as np
 
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
+from comms.px4 import Px4Mode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
 from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import FleetPlan, fleet_plan
+from mission_plan.roles import Role
 from mission_plan.table_fields import ScenarioError
 from mock_autopilot.backends.px4 import px4_vehicle_configs
 from mock_autopilot.camera.model import CameraModel
@@ -81,7 +83,7 @@ def setpoint_ages(fleet: Fleet, truth: FleetTruth, now_s: float) -> list[float]:
     ages = []
     for vehicle, mode in zip(fleet.vehicles, truth.modes):
         received_s = getattr(vehicle, "_setpoint_t_s", None)
-        if mode == "OFFBOARD" and received_s is not None and np.isfinite(received_s):
+        if mode == Px4Mode.OFFBOARD.value and received_s is not None and np.isfinite(received_s):
             ages.append(now_s - received_s)
     return ages
 
@@ -106,7 +108,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--camera-hz", type=float,
                    help="camera frame rate in mission time (default: the plan's camera rate)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
-    p.add_argument("--cameras", choices=("boundary", "all", "none"), default="boundary",
+    p.add_argument("--cameras", choices=(Role.BOUNDARY.value, "all", "none"), default=Role.BOUNDARY.value,
                    help="whose camera this process streams: the boundary drones (the only law that uses images), "
                         "all, or none (python -m mock_autopilot.sim_bridge.cameras streams them instead)")
     p.add_argument("--fault", action="append", default=[], metavar="KIND:INSTANCE[:VALUE]@T",

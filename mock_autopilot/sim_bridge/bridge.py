@@ -25,6 +25,7 @@ from comms.keys import MissionKeys
 from comms.messages import CameraFrame, GroundTruth, MissionCommand, decode, encode
 from comms.signing import unsigned_body
 from comms.zenoh_session import ZenohSession
+from mission_plan.roles import Role
 from mock_autopilot.camera.model import CameraModel
 from mission_plan.imaging import ImagingSpec
 from mock_autopilot.camera.render import MIN_ALTITUDE_M, CameraPose, render_frame
@@ -88,17 +89,17 @@ def camera_frame_message(
     )
 
 
-CAMERA_ROLES = ("boundary",)
+CAMERA_ROLES = (Role.BOUNDARY,)
 """Roles whose control law looks at the camera: only the boundary drones' (eqs 4-8, Algorithm 1). The leader (eq 9)
 and the followers (eq 10) fly on radio messages alone, so streaming their video would only burn CPU; the coverage
 metric uses their true footprints either way."""
 
 
-def camera_users(roles: dict[int, str], which: str = "boundary") -> set[int] | None:
+def camera_users(roles: dict[int, str], which: str = Role.BOUNDARY) -> set[int] | None:
     """Vehicle ids whose camera is streamed: ``"boundary"`` (the roles in :data:`CAMERA_ROLES`) or ``"all"``."""
     if which == "all":
         return None
-    if which != "boundary":
+    if which != Role.BOUNDARY:
         raise ValueError(f"--cameras {which!r}: use boundary or all")
     return {vid for vid, role in roles.items() if role in CAMERA_ROLES}
 

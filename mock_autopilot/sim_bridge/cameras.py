@@ -30,6 +30,7 @@ from comms.messages import CameraStats, GroundTruth, PaceAck, decode, encode
 from comms.zenoh_session import ZenohOpenError, ZenohSession
 from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import CamerasPlan, cameras_plan
+from mission_plan.roles import Role
 from mission_plan.table_fields import ScenarioError
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, camera_users, vehicles_from_truth
@@ -47,7 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="with --scenario: override a scenario parameter")
     p.add_argument("--mission", help="mission name in the Zenoh keys (default: the plan's)")
     p.add_argument("--camera-hz", type=float, help="frame rate in mission time (default: the plan's camera rate)")
-    p.add_argument("--cameras", choices=("boundary", "all"), default="boundary")
+    p.add_argument("--cameras", choices=(Role.BOUNDARY.value, "all"), default=Role.BOUNDARY.value)
     p.add_argument("--log-level", default="INFO")
     add_zenoh_arguments(p)
     return p

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mock_autopilot.world.growth import growth_fraction
-from mock_autopilot.world.ring_geometry import ring_area_centroid
+from mission_plan.geometry import ring_area_centroid
 
 
 _TABLE_SIZE = 1 << 16

@@ -17,6 +17,7 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from mission_plan.geometry import signed_area_m2
 from mock_autopilot.world.growth import ramp
 from mock_autopilot.world.heightmap import Heightmap, sample_grid
 
@@ -143,8 +144,7 @@ class TerrainFlood:
             contours, _ = cv2.findContours(water, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
             outer = max(contours, key=cv2.contourArea).reshape(-1, 2).astype(np.float64)
             ring = self._fine_to_en(outer, k)
-            x, y = ring[:, 0], ring[:, 1]
-            if float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) < 0.0:
+            if signed_area_m2(ring) < 0.0:
                 ring = ring[::-1].copy()
             result = (ring, n * fine_cell_m * fine_cell_m, centroid)
         if len(self._traced) > 64:

@@ -11,7 +11,7 @@ import pytest
 from comms.burst_loss import BurstLoss
 from comms.byte_budget import SenderBudgets, admit
 from comms.messages import GroundTruth, NeighbourState, encode
-from comms.radio_emulator import RadioRelay
+from comms.radio_relay import RadioRelay
 from comms.radio_model import RadioModel, radio_model_of
 from comms.signing import KEY_BYTES, MissionKey, sign
 from gcs.lockstep.radio_link import InMemoryRadio

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import msgspec
 import numpy as np
 
 from comms.messages import DecodeStats, GroundTruth, NeighbourState, encode
-from comms.radio_emulator import RadioRelay
+from comms.radio_relay import RadioRelay
 from comms.radio_model import RadioModel
 
 
@@ -119,3 +120,27 @@ def test_restarted_agent_with_seq_from_zero_is_forwarded_again() -> None:
     relay.on_state(0, state(0, 30.0), 0.0)  # the agent restarted 5 s later: forwarded
     assert relay.counters.ignored_old == 1
     assert [len(v) for v in relay.pop_due(0.0).values()] == [2]
+
+
+def test_only_the_header_is_read_and_a_bad_one_is_rejected_with_its_reason() -> None:
+    stats = DecodeStats()
+    relay = RadioRelay(RadioModel(25.0), stats=stats)
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)]))
+    header_only = msgspec.msgpack.encode({"schema": "fw/state/1", "sender_id": 0, "seq": 1, "t_s": float("nan")})
+    relay.on_state(0, header_only, 0.0)  # a NaN time stamp
+    relay.on_state(0, b"\x00" * 70_000, 0.0)  # above the state's size limit
+    relay.on_state(0, encode(GroundTruth(t_s=0.0, vehicle_ids=[], positions_enu_m=[])), 0.0)  # another schema
+    assert relay.counters.rejected == 3
+    assert stats.dropped == {("NeighbourState", "invalid"): 1, ("NeighbourState", "oversized"): 1,
+                             ("NeighbourState", "malformed"): 1}
+    forwarded = relay.on_state(0, _state(0, 2, claimed=(3.0, 4.0)), 0.0)
+    assert forwarded is not None and (forwarded.sender_id, forwarded.seq) == (0, 2)
+    assert relay.pop_due(0.0)[1] == [(0, _state(0, 2, claimed=(3.0, 4.0)))]  # the sender's own bytes, untouched
+
+
+def test_skipped_sequence_numbers_are_counted_as_input_gaps() -> None:
+    relay = RadioRelay(RadioModel(25.0))
+    relay.on_truth(_truth([(0, 0, 10), (1, 0, 10)]))
+    for seq in (1, 2, 5, 6, 10):
+        relay.on_state(0, _state(0, seq), 0.0)
+    assert relay.counters.input_gaps == 2 + 3

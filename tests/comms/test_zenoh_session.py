@@ -299,3 +299,23 @@ def test_the_publishers_zenoh_id_and_address_when_the_sample_carries_its_source(
         sources = {item.key: item.source for item in buf.drain()}
         assert sources == {"src/with": outsider_zid, "src/plain": ""}, sources
         assert hub.address_of("0" * 32) == ""
+
+
+def test_a_queue_subscription_keeps_every_sample_in_order_and_drains_nothing_after_close(
+        free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs9")
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        rx = ZenohSession(ZenohConfig.member(hub_ep))
+        queue = rx.subscribe_queue(keys.all_states, capacity=1000)
+        latest = rx.subscribe(keys.all_states)
+        time.sleep(0.5)
+        for seq in range(200):  # one key: a latest-value buffer keeps one sample, the queue all 200
+            hub.put(keys.state(3), encode(_state(3, seq)))
+        got: list[tuple[str, bytes]] = []
+        assert _until(lambda: bool(got.extend(queue.drain())) or len(got) >= 200)
+        assert [key for key, _ in got] == [keys.state(3)] * 200
+        assert [payload for _, payload in got] == [encode(_state(3, seq)) for seq in range(200)]
+        assert queue.received == 200 and len(latest.drain()) == 1
+        rx.close()
+        assert queue.drain() == []

@@ -1,7 +1,7 @@
 """Whole missions with the processes engine over real loopback MAVLink and Zenoh: metrics, faults, bad input.
 
-Every test uses its own ports in 25000-29999 so it never clashes with a user's mission on 14540/14550/7447, and
-checks that no process outlives the run.
+Every test takes its own block of free ports from the ``udp_ports`` fixture (never a user's 14540/14550/7447, never
+another test's), and checks that no process outlives the run.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -61,6 +62,10 @@ def assert_no_orphans(out_dir: Path, wait_s: float = 5.0) -> None:
     assert alive_pids(pids) == {}, f"orphan processes left behind: {alive_pids(pids)}"
 
 
+PORT_BLOCK = 61
+"""A mission's ports from its base: vehicles base + i, the GCS link base + 50, the Zenoh hub base + 60."""
+
+
 def _options(out_dir: Path, base: int, **changes: object) -> ProcessOptions:
     values: dict[str, object] = dict(
         scenario_arg="circle", mode="improved", speed=CI_SPEED, duration_s=20.0, out_dir=out_dir,
@@ -92,12 +97,13 @@ def _check_outputs(out: Path, min_duration_s: float) -> dict[str, object]:
     return metrics
 
 
-def test_readme_mission_command_improved_meets_targets(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
+def test_readme_mission_command_improved_meets_targets(tmp_path: Path, mission_cli, udp_ports) -> None:  # noqa: ANN001
     """The README's mission command (improved mode, shortened, own ports): the metrics say the mission worked."""
     out = tmp_path / "run"
-    hub = "tcp/127.0.0.1:25160"
+    base = udp_ports(PORT_BLOCK)
+    hub = f"tcp/127.0.0.1:{base + 60}"
     proc = mission_cli(["circle", "--mode", "improved", "--speed", str(CI_SPEED), "--duration", "20", "--out", str(out),
-                        "--base-port", "25100", "--gcs-port", "25150", "--no-live"], hub)
+                        "--base-port", str(base), "--gcs-port", str(base + 50), "--no-live"], hub)
     polygons, states = _listen_to_public_keys(hub, "circle", proc)
     stdout, stderr = proc.communicate(timeout=240)
     assert proc.returncode == 0, stdout[-2000:] + stderr[-2000:]
@@ -115,11 +121,13 @@ def test_readme_mission_command_improved_meets_targets(tmp_path: Path, mission_c
 
 
 @pytest.mark.slow
-def test_readme_mission_command_full_length_real_time(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
+def test_readme_mission_command_full_length_real_time(tmp_path: Path, mission_cli, udp_ports) -> None:  # noqa: ANN001
     """The README's first command as a user runs it (improved mode, 60 s, real time), only the ports moved."""
     out = tmp_path / "run"
-    proc = mission_cli(["circle", "--out", str(out), "--base-port", "25700", "--gcs-port", "25750", "--no-live"],
-                       "tcp/127.0.0.1:25760")
+    base = udp_ports(PORT_BLOCK)
+    proc = mission_cli(["circle", "--out", str(out), "--base-port", str(base), "--gcs-port", str(base + 50),
+                        "--no-live"],
+                       f"tcp/127.0.0.1:{base + 60}")
     stdout, stderr = proc.communicate(timeout=400)
     assert proc.returncode == 0, stdout[-2000:] + stderr[-2000:]
     assert_no_orphans(out)
@@ -129,11 +137,12 @@ def test_readme_mission_command_full_length_real_time(tmp_path: Path, mission_cl
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(("scenario", "base"), [("ellipse", 26100), ("nonconvex", 26200), ("drift", 26300)])
-def test_other_scenarios_run_over_processes(tmp_path: Path, scenario: str, base: int) -> None:
+@pytest.mark.parametrize("scenario", ["ellipse", "nonconvex", "drift"])
+def test_other_scenarios_run_over_processes(tmp_path: Path, scenario: str, udp_ports) -> None:  # noqa: ANN001
     """Every lockstep scenario also flies here (shortened); the caged polygon still overlaps the true flood."""
     out = tmp_path / "run"
-    code = run_processes(load_scenario(scenario), _options(out, base, scenario_arg=scenario, duration_s=30.0))
+    options = _options(out, udp_ports(PORT_BLOCK), scenario_arg=scenario, duration_s=30.0)
+    code = run_processes(load_scenario(scenario), options)
     assert code == 0, _read(out / "events.log")[-3000:]
     assert_no_orphans(out)
     s = json.loads((out / "metrics.json").read_text())["summary"]
@@ -141,14 +150,16 @@ def test_other_scenarios_run_over_processes(tmp_path: Path, scenario: str, base:
 
 
 @pytest.mark.slow
-def test_processes_engine_matches_lockstep_on_circle_improved(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
+def test_processes_engine_matches_lockstep_on_circle_improved(
+    tmp_path: Path, mission_cli, udp_ports: Callable[[int], int],
+) -> None:  # noqa: ANN001
     """The done-when check: the same mission through both engines, which run the same onboard core, the lockstep
     one on the mock PX4 backend; metrics agree within gcs.metrics.agreement's tolerances (bench/mission_compare.py
     prints the same comparison for every small scenario)."""
     summaries = {}
     for engine, extra in (("lockstep", ["--backend", "px4"]), ("processes", [])):
         out = tmp_path / engine
-        base = 26400
+        base = udp_ports(PORT_BLOCK)
         proc = mission_cli(["circle", "--engine", engine, "--mode", "improved", "--seed", "1", "--out", str(out),
                             "--no-live", "--base-port", str(base), "--gcs-port", str(base + 50), *extra],
                            f"tcp/127.0.0.1:{base + 60}")
@@ -159,11 +170,11 @@ def test_processes_engine_matches_lockstep_on_circle_improved(tmp_path: Path, mi
     assert summaries["processes"]["polygon_iou_final"] >= 0.95 and summaries["processes"]["near_miss_pairs"] == 0
 
 
-def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) -> None:
+def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path, udp_ports) -> None:  # noqa: ANN001
     """kill -9 of a boundary agent: the GCS reports it within 2 s, its vehicle falls back, the mission completes."""
     out = tmp_path / "run"
     scenario = load_scenario("circle")
-    options = _options(out, 25200, duration_s=22.0)
+    options = _options(out, udp_ports(PORT_BLOCK), duration_s=22.0)
     station = GroundStation(scenario, options, _mkdir(out))
     result: dict[str, int] = {}
     runner = threading.Thread(target=lambda: result.setdefault("code", _run(station)))
@@ -201,11 +212,13 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path) 
     assert losses[0]["recovery_time_s"] is not None and losses[0]["recovery_time_s"] < 15.0, losses
 
 
-def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(tmp_path: Path) -> None:
+def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(
+    tmp_path: Path, udp_ports: Callable[[int], int],
+) -> None:
     """Fault injection kills vehicle 6 (instance 5) in the fleet: no more heartbeats, its agent notices and exits
     (code 3, vehicle lost), the ground station reports both, the mission completes."""
     out = tmp_path / "run"
-    options = _options(out, 25900, duration_s=25.0, sim_faults=("kill:5@30",))
+    options = _options(out, udp_ports(PORT_BLOCK), duration_s=25.0, sim_faults=("kill:5@30",))
     code = run_processes(load_scenario("circle"), options)
     events = _read(out / "events.log")
     assert code == 0, events[-3000:]
@@ -219,26 +232,30 @@ def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(tmp_
     assert [loss["vehicle_id"] for loss in metrics["losses"]] == [6]
 
 
-def test_busy_zenoh_port_fails_cleanly(tmp_path: Path) -> None:
+def test_busy_zenoh_port_fails_cleanly(tmp_path: Path, udp_ports) -> None:  # noqa: ANN001
     out = tmp_path / "run"
-    blocker = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    options = _options(out, udp_ports(PORT_BLOCK))
+    hub_port = int(options.zenoh_endpoint.rsplit(":", 1)[1])
+    blocker = socket.socket(socket.AF_INET, socket.SOCK_STREAM)  # the test blocks the very port it chose
     blocker.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-    blocker.bind(("127.0.0.1", 25960))
+    blocker.bind(("127.0.0.1", hub_port))
     blocker.listen(1)
     try:
-        code = run_processes(load_scenario("circle"), _options(out, 25900))
+        code = run_processes(load_scenario("circle"), options)
     finally:
         blocker.close()
     assert code == 1
-    assert "tcp/127.0.0.1:25960 is not free" in _read(out / "events.log")
+    assert f"tcp/127.0.0.1:{hub_port} is not free" in _read(out / "events.log")
     assert pids_of_run(out) == {}
 
 
-def test_ctrl_c_stops_everything_and_keeps_the_record(tmp_path: Path, mission_cli) -> None:  # noqa: ANN001
+def test_ctrl_c_stops_everything_and_keeps_the_record(tmp_path: Path, mission_cli, udp_ports) -> None:  # noqa: ANN001
     """SIGINT to ``python -m gcs.mission`` mid-flight: exit 130, no orphans, events and record on disk."""
     out = tmp_path / "run"
+    base = udp_ports(PORT_BLOCK)
     proc = mission_cli(["circle", "--mode", "improved", "--speed", str(CI_SPEED), "--duration", "60", "--out", str(out),
-                        "--base-port", "25300", "--gcs-port", "25350", "--no-live"], "tcp/127.0.0.1:25360")
+                        "--base-port", str(base), "--gcs-port", str(base + 50), "--no-live"],
+                       f"tcp/127.0.0.1:{base + 60}")
     deadline = time.monotonic() + 120.0
     while time.monotonic() < deadline and "flood clock starts" not in _read(out / "events.log"):
         time.sleep(0.2)
@@ -252,22 +269,23 @@ def test_ctrl_c_stops_everything_and_keeps_the_record(tmp_path: Path, mission_cl
     assert len(record["t_s"]) > 5
 
 
-def test_busy_gcs_port_fails_cleanly(tmp_path: Path) -> None:
+def test_busy_gcs_port_fails_cleanly(tmp_path: Path, udp_ports) -> None:  # noqa: ANN001
     out = tmp_path / "run"
-    blocker = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    blocker.bind(("127.0.0.1", 25450))
+    options = _options(out, udp_ports(PORT_BLOCK))
+    blocker = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)  # the test blocks the very port it chose
+    blocker.bind(("127.0.0.1", options.gcs_port))
     try:
-        code = run_processes(load_scenario("circle"), _options(out, 25400))
+        code = run_processes(load_scenario("circle"), options)
     finally:
         blocker.close()
     assert code == 1
-    assert "25450" in _read(out / "events.log") and "not free" in _read(out / "events.log")
+    assert str(options.gcs_port) in _read(out / "events.log") and "not free" in _read(out / "events.log")
     assert pids_of_run(out) == {}, "no child may start when the GCS port is taken"
 
 
-def test_agent_that_cannot_start_stops_the_mission(tmp_path: Path) -> None:
+def test_agent_that_cannot_start_stops_the_mission(tmp_path: Path, udp_ports) -> None:  # noqa: ANN001
     out = tmp_path / "run"
-    options = _options(out, 25500, extra_agent_args=("--link", "no-such-link"))
+    options = _options(out, udp_ports(PORT_BLOCK), extra_agent_args=("--link", "no-such-link"))
     code = run_processes(load_scenario("circle"), options)
     assert code == 1
     assert "failed to start" in _read(out / "events.log")
@@ -279,8 +297,10 @@ def test_agent_that_cannot_start_stops_the_mission(tmp_path: Path) -> None:
     (["circle", "--set", "flood.radius_start_m=-3"], "flood.radius_start_m"),
     (["circle", "--set", "novalue"], "expected key=value"),
 ])
-def test_bad_mission_input_is_one_line_and_exit_2(args: list[str], message: str) -> None:
-    proc = subprocess.run([sys.executable, "-m", "gcs.mission", *args, "--base-port", "25600", "--gcs-port", "25650"],
+def test_bad_mission_input_is_one_line_and_exit_2(args: list[str], message: str, udp_ports) -> None:  # noqa: ANN001
+    base = udp_ports(PORT_BLOCK)
+    proc = subprocess.run([sys.executable, "-m", "gcs.mission", *args, "--base-port", str(base),
+                           "--gcs-port", str(base + 50)],
                           cwd=REPO, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
@@ -387,11 +407,14 @@ def _fly_and_freeze_agent(out: Path, options: ProcessOptions, victim_id: int, fr
     return result.get("code", -1), station
 
 
-def test_paced_clock_waits_for_a_stopped_agent_and_the_mission_is_unchanged(tmp_path: Path) -> None:
+def test_paced_clock_waits_for_a_stopped_agent_and_the_mission_is_unchanged(
+    tmp_path: Path, udp_ports: Callable[[int], int],
+) -> None:
     """SIGSTOP of a boundary agent for 1.2 s (under the 2 s agent timeout): the paced clock holds, nobody is left
     behind, no failsafe fires, and the metrics agree with the lockstep engine's."""
     out = tmp_path / "run"
-    code, station = _fly_and_freeze_agent(out, _options(out, 26500, duration_s=20.0), victim_id=3, frozen_wall_s=1.2)
+    options = _options(out, udp_ports(PORT_BLOCK), duration_s=20.0)
+    code, station = _fly_and_freeze_agent(out, options, victim_id=3, frozen_wall_s=1.2)
     events = _read(out / "events.log")
     assert code == 0, events[-3000:]
     metrics = json.loads((out / "metrics.json").read_text())
@@ -403,11 +426,12 @@ def test_paced_clock_waits_for_a_stopped_agent_and_the_mission_is_unchanged(tmp_
 
 
 @pytest.mark.slow
-def test_free_clock_stopped_agent_meets_px4_offboard_loss(tmp_path: Path) -> None:
+def test_free_clock_stopped_agent_meets_px4_offboard_loss(tmp_path: Path, udp_ports) -> None:  # noqa: ANN001
     """The same freeze on a free-running clock: the simulation goes on without the agent and its vehicle leaves
     OFFBOARD after COM_OF_LOSS_T, as PX4 does."""
     out = tmp_path / "run"
-    code, station = _fly_and_freeze_agent(out, _options(out, 26600, duration_s=20.0, clock="free"), victim_id=3,
+    options = _options(out, udp_ports(PORT_BLOCK), duration_s=20.0, clock="free")
+    code, station = _fly_and_freeze_agent(out, options, victim_id=3,
                                           frozen_wall_s=2.5)
     events = _read(out / "events.log")
     assert code == 0, events[-3000:]
@@ -417,11 +441,11 @@ def test_free_clock_stopped_agent_meets_px4_offboard_loss(tmp_path: Path) -> Non
 
 
 @pytest.mark.slow
-def test_paced_clock_leaves_behind_an_agent_silent_past_the_timeout(tmp_path: Path) -> None:
+def test_paced_clock_leaves_behind_an_agent_silent_past_the_timeout(tmp_path: Path, udp_ports) -> None:  # noqa: ANN001
     """A freeze past ``--agent-timeout-s``: the clock goes on without the agent, its vehicle meets the offboard-loss
     rule in mission time, and the run says so: left behind, engine degraded (``--strict`` exits 1)."""
     out = tmp_path / "run"
-    options = _options(out, 26700, duration_s=20.0, agent_timeout_s=1.0, strict=True)
+    options = _options(out, udp_ports(PORT_BLOCK), duration_s=20.0, agent_timeout_s=1.0, strict=True)
     code, station = _fly_and_freeze_agent(out, options, victim_id=3, frozen_wall_s=4.0)
     events = _read(out / "events.log")
     assert code == 1, events[-3000:]

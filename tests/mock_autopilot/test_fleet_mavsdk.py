@@ -1,4 +1,4 @@
-"""Fleet with MAVSDK 4.x (the C++ library through ctypes) as the client (ports 20200-20299).
+"""Fleet with MAVSDK 4.x (the C++ library through ctypes) as the client (ports from the ``udp_ports`` fixture).
 
 MAVSDK listens with ``udpin://0.0.0.0:PORT`` and the vehicle sends there first, as PX4 SITL does.
 Simulated time runs 4x faster than the wall clock (``speed=4``): MAVSDK's 20 Hz offboard stream is then 5 Hz
@@ -44,10 +44,12 @@ async def connect(port: int) -> tuple[Mavsdk, Any]:
     return mavsdk, system
 
 
-def test_mavsdk_full_flight() -> None:
+def test_mavsdk_full_flight(udp_ports: Callable[[int], int]) -> None:
+    base, gcs = udp_ports(1), udp_ports(1)
+
     async def scenario() -> None:
-        with Fleet([VehicleConfig(0, pad_enu_m=(14.0, 0.0, 0.0))], base_port=20200, gcs_port=20250, speed=SPEED) as fleet:
-            mavsdk, system = await connect(20200)
+        with Fleet([VehicleConfig(0, pad_enu_m=(14.0, 0.0, 0.0))], base_port=base, gcs_port=gcs, speed=SPEED) as fleet:
+            mavsdk, system = await connect(base)
             try:
                 telemetry, action, offboard = TelemetryAsync(system), ActionAsync(system), OffboardAsync(system)
                 health = await wait_for(telemetry.health, lambda h: h.is_home_position_ok and h.is_global_position_ok)
@@ -90,12 +92,16 @@ def test_mavsdk_full_flight() -> None:
     asyncio.run(scenario())
 
 
-def test_mavsdk_offboard_loss_fallback_and_no_gps_vehicle_and_two_vehicles_with_signing_key() -> None:
+def test_mavsdk_offboard_loss_fallback_and_no_gps_vehicle_and_two_vehicles_with_signing_key(
+    udp_ports: Callable[[int], int],
+) -> None:
+    base, gcs = udp_ports(2), udp_ports(1)
+
     async def scenario() -> None:
         configs = [VehicleConfig(0), VehicleConfig(1, has_gps=False, pad_enu_m=(1.5, 0.0, 0.0))]
         # with a signing key the GCS link requires signatures; the onboard link, where MAVSDK talks, stays unsigned
-        with Fleet(configs, base_port=20210, gcs_port=20260, speed=SPEED, signing_key=bytes(range(32))) as fleet:
-            clients = [await connect(20210), await connect(20211)]
+        with Fleet(configs, base_port=base, gcs_port=gcs, speed=SPEED, signing_key=bytes(range(32))) as fleet:
+            clients = [await connect(base), await connect(base + 1)]
             try:
                 (m0, s0), (m1, s1) = clients
                 assert await s0.get_system_id() == 1 and await s1.get_system_id() == 2
@@ -132,10 +138,12 @@ def test_mavsdk_offboard_loss_fallback_and_no_gps_vehicle_and_two_vehicles_with_
     asyncio.run(scenario())
 
 
-def test_mavsdk_goto_hold_and_return_to_launch() -> None:
+def test_mavsdk_goto_hold_and_return_to_launch(udp_ports: Callable[[int], int]) -> None:
+    base, gcs = udp_ports(1), udp_ports(1)
+
     async def scenario() -> None:
-        with Fleet([VehicleConfig(0, pad_enu_m=(5.0, 5.0, 0.0))], base_port=20220, gcs_port=20270, speed=SPEED) as fleet:
-            mavsdk, system = await connect(20220)
+        with Fleet([VehicleConfig(0, pad_enu_m=(5.0, 5.0, 0.0))], base_port=base, gcs_port=gcs, speed=SPEED) as fleet:
+            mavsdk, system = await connect(base)
             try:
                 telemetry, action = TelemetryAsync(system), ActionAsync(system)
                 await wait_for(telemetry.health, lambda h: h.is_home_position_ok and h.is_armable)

@@ -1,8 +1,9 @@
-"""Fleet over real loopback UDP with pymavlink as the client (ports 20100-20199)."""
+"""Fleet over real loopback UDP with pymavlink as the client (ports from the ``udp_ports`` fixture)."""
 
 import os
 import socket
 import time
+from collections.abc import Callable
 
 os.environ["MAVLINK20"] = "1"
 
@@ -42,10 +43,11 @@ def ack(m: mavutil.mavfile, command: int, *params: float, target: int = 1, timeo
     return wait_msg(m, "COMMAND_ACK", lambda a: a.command == command, timeout_s)
 
 
-def test_pymavlink_flight_on_onboard_and_gcs_links() -> None:
-    with Fleet([VehicleConfig(0, pad_enu_m=(14.0, 0.0, 0.0))], base_port=20100, gcs_port=20150, speed=4.0) as fleet:
-        onboard = connect(20100)
-        gcs = connect(20150, sysid=254)
+def test_pymavlink_flight_on_onboard_and_gcs_links(udp_ports: Callable[[int], int]) -> None:
+    base, gcs_port = udp_ports(1), udp_ports(1)
+    with Fleet([VehicleConfig(0, pad_enu_m=(14.0, 0.0, 0.0))], base_port=base, gcs_port=gcs_port, speed=4.0) as fleet:
+        onboard = connect(base)
+        gcs = connect(gcs_port, sysid=254)
         assert onboard.target_system == 1 and gcs.target_system == 1
         gcs.mav.param_set_send(1, 1, b"MIS_TAKEOFF_ALT", 4.0, 9)
         value = wait_msg(gcs, "PARAM_VALUE", lambda v: v.param_id == "MIS_TAKEOFF_ALT")
@@ -77,10 +79,11 @@ def test_pymavlink_flight_on_onboard_and_gcs_links() -> None:
         gcs.close()
 
 
-def test_several_vehicles_on_distinct_ports() -> None:
+def test_several_vehicles_on_distinct_ports(udp_ports: Callable[[int], int]) -> None:
+    base, gcs = udp_ports(3), udp_ports(1)
     configs = [VehicleConfig(i, pad_enu_m=(1.5 * i, 0.0, 0.0), has_gps=i != 2) for i in range(3)]
-    with Fleet(configs, base_port=20110, gcs_port=20160, speed=2.0) as fleet:
-        clients = [connect(20110 + i) for i in range(3)]
+    with Fleet(configs, base_port=base, gcs_port=gcs, speed=2.0) as fleet:
+        clients = [connect(base + i) for i in range(3)]
         for i, c in enumerate(clients):
             assert c.target_system == i + 1
             assert ack(c, 400, 1, target=i + 1).result == 0
@@ -99,9 +102,10 @@ def test_several_vehicles_on_distinct_ports() -> None:
             c.close()
 
 
-def test_garbage_from_a_stranger_does_not_redirect_telemetry() -> None:
-    with Fleet(1, base_port=20120, gcs_port=20170, speed=2.0) as fleet:
-        owner = connect(20120)
+def test_garbage_from_a_stranger_does_not_redirect_telemetry(udp_ports: Callable[[int], int]) -> None:
+    base, gcs = udp_ports(1), udp_ports(1)
+    with Fleet(1, base_port=base, gcs_port=gcs, speed=2.0) as fleet:
+        owner = connect(base)
         stranger = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         stranger.bind(("127.0.0.1", 0))
         stranger.settimeout(0.2)
@@ -135,9 +139,10 @@ def test_garbage_from_a_stranger_does_not_redirect_telemetry() -> None:
         owner.close()
 
 
-def test_gcs_link_requires_signing_onboard_link_does_not() -> None:
-    with Fleet(1, base_port=20130, gcs_port=20180, speed=2.0, signing_key=KEY) as fleet:
-        gcs = mavutil.mavlink_connection("udpin:127.0.0.1:20180", source_system=254, source_component=190)
+def test_gcs_link_requires_signing_onboard_link_does_not(udp_ports: Callable[[int], int]) -> None:
+    base, gcs_port = udp_ports(1), udp_ports(1)
+    with Fleet(1, base_port=base, gcs_port=gcs_port, speed=2.0, signing_key=KEY) as fleet:
+        gcs = mavutil.mavlink_connection(f"udpin:127.0.0.1:{gcs_port}", source_system=254, source_component=190)
         hb = gcs.wait_heartbeat(timeout=5)
         assert hb is not None
         assert ack(gcs, 400, 1, timeout_s=1.0) is None
@@ -149,15 +154,16 @@ def test_gcs_link_requires_signing_onboard_link_does_not() -> None:
         gcs.setup_signing(KEY, sign_outgoing=True, initial_timestamp=signing_timestamp(time.time()))
         reply = ack(gcs, 400, 1)
         assert reply is not None and reply.result == 0
-        onboard = connect(20130)
+        onboard = connect(base)
         assert ack(onboard, 400, 0).result == 0
         gcs.close()
         onboard.close()
 
 
-def test_fault_api_drop_delay_kill_gps_battery() -> None:
-    with Fleet(2, base_port=20140, gcs_port=20190, speed=2.0) as fleet:
-        c0 = connect(20140)
+def test_fault_api_drop_delay_kill_gps_battery(udp_ports: Callable[[int], int]) -> None:
+    base, gcs = udp_ports(2), udp_ports(1)
+    with Fleet(2, base_port=base, gcs_port=gcs, speed=2.0) as fleet:
+        c0 = connect(base)
         fleet.drop_links(0)
         c0.recv_match(blocking=True, timeout=0.3)
         while c0.recv_match(blocking=False) is not None:
@@ -176,7 +182,7 @@ def test_fault_api_drop_delay_kill_gps_battery() -> None:
         fleet.drain_battery(0, 0.1)
         assert wait_msg(c0, "BATTERY_STATUS", lambda b: b.battery_remaining == 10, timeout_s=5.0) is not None
         fleet.kill(1)
-        c1 = mavutil.mavlink_connection("udpin:127.0.0.1:20141", source_system=255)
+        c1 = mavutil.mavlink_connection(f"udpin:127.0.0.1:{base + 1}", source_system=255)
         assert c1.wait_heartbeat(timeout=1.5) is None
         assert not fleet.truth().alive[1]
         c0.close()
@@ -184,7 +190,7 @@ def test_fault_api_drop_delay_kill_gps_battery() -> None:
 
 
 def test_start_failure_raises_and_leaves_nothing_running() -> None:
-    fleet = Fleet(1, base_port=20195, gcs_port=20196, host="203.0.113.1")  # TEST-NET: cannot bind here
+    fleet = Fleet(1, base_port=30000, gcs_port=30001, host="203.0.113.1")  # TEST-NET: nothing binds there at all
     with pytest.raises(OSError):
         fleet.start()
     assert fleet._thread is None

@@ -1,7 +1,7 @@
 """Failsafe action tables: every parameter value in range has an action."""
 
+from comms.px4 import Px4Mode
 from mock_autopilot.px4_failsafes import DATALINK_LOSS_ACTIONS, DISARM, OFFBOARD_LOSS_ACTIONS, TERMINATE, battery_action
-from mock_autopilot.px4_modes import Px4Mode
 from mock_autopilot.px4_params import PARAM_SPECS
 
 

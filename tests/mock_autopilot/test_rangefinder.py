@@ -12,6 +12,7 @@ from mock_autopilot.kinematics import KinematicState
 from mock_autopilot.px4_streams import ONBOARD, stream_periods_s
 from mock_autopilot.rangefinder import MAX_DISTANCE_M, MIN_DISTANCE_M, distance_sensor_message
 from mock_autopilot.vehicle import Vehicle, VehicleConfig
+from mock_autopilot.vehicle_snapshot import take_snapshot
 from mock_autopilot.world.flood_model import ExpandingCircle
 from mock_autopilot.world.ground import height_above_ground_m, relative_ground_m
 
@@ -36,9 +37,9 @@ def test_a_downward_laser_reading_in_centimetres_clamped_to_its_range() -> None:
 def test_the_vehicle_reports_its_height_above_the_ground_below_it() -> None:
     v = Vehicle(VehicleConfig(instance=0))
     v.body = KinematicState(position_ned_m=np.array([0.0, 0.0, -10.0]))
-    assert telemetry.distance_sensor(v, 1.0).current_distance == 1000
+    assert telemetry.distance_sensor(take_snapshot(v, 1.0)).current_distance == 1000
     v.ground_below_enu_m = 1.5  # a rise under the drone: the ground is nearer
-    assert telemetry.distance_sensor(v, 1.0).current_distance == 850
+    assert telemetry.distance_sensor(take_snapshot(v, 1.0)).current_distance == 850
     assert math.isclose(stream_periods_s("px4", ONBOARD)["DISTANCE_SENSOR"], 0.1)  # PX4 onboard mode: 10 Hz
 
 

@@ -25,10 +25,12 @@ def decode(mask: int, frame: int = MAV_FRAME_LOCAL_NED, pos=(1.0, 2.0, -3.0), ve
 
 
 def expected_valid(mask: int) -> bool:
-    """PX4's rule written independently: bit by bit."""
-    if mask >= 4096 or mask & 512:
-        return False
+    """PX4's rule written independently, bit by bit: undefined bits above 11 ignored, FORCE_SET refused only with an
+    acceleration in use, then every axis set and x/y paired."""
+    mask %= 4096
     ignored = [bool(mask & (1 << b)) for b in range(9)]  # x y z vx vy vz ax ay az
+    if mask & 512 and not all(ignored[6:9]):
+        return False
     for axis in range(3):
         if all(ignored[axis + 3 * k] for k in range(3)):
             return False
@@ -38,10 +40,30 @@ def expected_valid(mask: int) -> bool:
     return True
 
 
+def expected_proof_of_life(mask: int) -> bool:
+    """PX4's receiver: no FORCE_SET with an acceleration, and at least one position, velocity or acceleration."""
+    mask %= 4096
+    if mask & 512 and (mask & 448) != 448:
+        return False
+    return (mask & 511) != 511
+
+
 def test_every_mask_combination() -> None:
-    valid = [m for m in range(8192) if isinstance(decode(m), OffboardSetpoint)]
+    decoded = {m: decode(m) for m in range(8192)}
+    accepted = [m for m, d in decoded.items() if isinstance(d, OffboardSetpoint)]
+    assert accepted == [m for m in range(8192) if expected_proof_of_life(m)]
+    valid = [m for m in accepted if decoded[m].flyable]
     assert valid == [m for m in range(8192) if expected_valid(m)]
-    assert len(valid) == 7 * 7 * 4
+    assert len(valid) == 2 * (7 * 7 * 4 + 3 * 3 * 4)
+    assert decode(MASK_VELOCITY_AND_YAW | 4096).type_mask == MASK_VELOCITY_AND_YAW
+
+
+def test_force_set_refused_only_with_an_acceleration() -> None:
+    assert isinstance(decode(MASK_VELOCITY_AND_YAW | 512), OffboardSetpoint)
+    acceleration_xy = 0b1100_0011_1111  # positions, velocities, yaw and yaw rate ignored; ax ay az used
+    assert isinstance(decode(acceleration_xy), OffboardSetpoint)
+    assert decode(acceleration_xy | 512) == "force_setpoint_unsupported"
+    assert decode((MASK_VELOCITY_AND_YAW & ~256) | 512) == "force_setpoint_unsupported"  # az used
 
 
 def test_mavsdk_velocity_yaw_mask() -> None:
@@ -66,17 +88,18 @@ def test_valid_masks_keep_exactly_the_fields_not_ignored(mask: int) -> None:
     assert math.isnan(sp.yaw_rate_rad_s) == bool(mask & 2048)
 
 
-def test_nan_in_used_field_refused_but_allowed_in_ignored() -> None:
-    assert decode(MASK_VELOCITY_AND_YAW, vel=(math.nan, 0.0, 0.0)) == "non_finite_field"
-    assert decode(MASK_VELOCITY_AND_YAW, yaw=math.nan) == "non_finite_field"
-    assert isinstance(decode(MASK_VELOCITY_AND_YAW, pos=NAN3, acc=NAN3, yaw_rate=math.nan), OffboardSetpoint)
+def test_nan_in_a_used_field_is_unset_and_infinity_is_not_flyable() -> None:
+    assert not decode(MASK_VELOCITY_AND_YAW, vel=(math.nan, 0.0, 0.0)).flyable  # north has no setpoint left
+    assert decode(MASK_VELOCITY_AND_YAW, yaw=math.nan).flyable  # yaw unset: no yaw setpoint, as PX4
+    assert not decode(MASK_VELOCITY_AND_YAW, vel=(math.inf, 0.0, 0.0)).flyable
+    assert decode(MASK_VELOCITY_AND_YAW, vel=NAN3) == "no_setpoint"
+    assert decode(MASK_VELOCITY_AND_YAW, pos=NAN3, acc=NAN3, yaw_rate=math.nan).flyable
 
 
 def test_unsupported_frames_and_force() -> None:
     assert decode(MASK_VELOCITY_AND_YAW, frame=0) == "frame_unsupported"
     assert decode(MASK_VELOCITY_AND_YAW, frame=6) == "frame_unsupported"
-    assert decode(MASK_VELOCITY_AND_YAW & ~512 | 512) == "force_setpoint_unsupported"
-    assert decode(4096 | MASK_VELOCITY_AND_YAW) == "type_mask_out_of_range"
+    assert decode(MASK_VELOCITY_AND_YAW | 512, frame=6) == "frame_unsupported"  # the frame is checked first
 
 
 def test_body_ned_rotates_velocity_by_yaw() -> None:

@@ -7,11 +7,11 @@ import pytest
 from pymavlink.dialects.v20 import common as mavlink
 
 from comms.frames import GeodeticHome, enu_to_geodetic
+from comms.px4 import LandedState, Px4Mode, custom_mode
 from mock_autopilot.harness import VehicleHarness
-from mock_autopilot.px4_modes import Px4Mode, custom_mode
 from mock_autopilot.px4_params import PARAM_TABLE, ParamType, encode_param_value
 from mock_autopilot.setpoints import MASK_VELOCITY_AND_YAW
-from mock_autopilot.vehicle import LandedState, VehicleConfig
+from mock_autopilot.vehicle import VehicleConfig
 
 ACCEPTED, TEMP_REJECTED, DENIED, UNSUPPORTED = 0, 1, 2, 3
 NAN = math.nan
@@ -166,15 +166,44 @@ def test_takeoff_altitude_from_param7_amsl() -> None:
     assert -h.vehicle.position_ned_m[2] == pytest.approx(8.0, abs=0.3)
 
 
-def test_takeoff_refused_when_disarmed_with_statustext() -> None:
+def test_takeoff_when_disarmed_selects_the_mode_and_climbs_once_armed() -> None:
+    # PX4 commander: NAV_TAKEOFF only switches to AUTO.TAKEOFF; arming then takes off.
     h = VehicleHarness()
-    assert h.command(22, NAN, NAN, NAN, NAN, NAN, NAN, NAN) == TEMP_REJECTED
-    assert any("Takeoff denied" in t for t in h.texts())
+    set_param(h, "MIS_TAKEOFF_ALT", 4.0)
+    assert h.command(22, NAN, NAN, NAN, NAN, NAN, NAN, NAN) == ACCEPTED
+    h.run(0.5)
+    assert h.vehicle.mode is Px4Mode.AUTO_TAKEOFF and h.vehicle.position_ned_m[2] == 0.0
+    assert h.command(400, 1) == ACCEPTED
+    h.run(6.0)
+    assert h.vehicle.mode is Px4Mode.AUTO_LOITER
+    assert -h.vehicle.position_ned_m[2] == pytest.approx(4.0, abs=0.3)
+
+
+def test_arm_param_is_rounded_and_anything_else_unsupported() -> None:
+    h = VehicleHarness()
+    assert h.command(400, 2.0) == UNSUPPORTED
+    assert any(t.startswith("Unsupported ARM_DISARM param") for t in h.texts())
+    assert h.command(400, 0.9) == ACCEPTED and h.vehicle.armed
+
+
+def test_set_mode_follows_px4_commander() -> None:
+    h = VehicleHarness()
+    assert h.command(mavlink.MAV_CMD_DO_SET_MODE, 1, 4, 0) == TEMP_REJECTED  # AUTO alone is MISSION: no mission
+    assert h.command(mavlink.MAV_CMD_DO_SET_MODE, 1, 4, 77) == TEMP_REJECTED
+    assert any(t == "Unsupported auto mode" for t in h.texts())
+    assert h.command(mavlink.MAV_CMD_DO_SET_MODE, 1, 99, 0) == ACCEPTED  # names no mode: nothing changes
+    assert h.vehicle.mode is Px4Mode.AUTO_LOITER
+    manual_guided = mavlink.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED | mavlink.MAV_MODE_FLAG_GUIDED_ENABLED
+    assert h.command(mavlink.MAV_CMD_DO_SET_MODE, manual_guided, 0, 0) == ACCEPTED  # base mode flags: POSCTL
+    assert h.vehicle.mode is Px4Mode.POSCTL
 
 
 def test_arming_refused_in_offboard_without_setpoints_and_in_manual_modes() -> None:
     h = VehicleHarness()
-    assert set_mode(h, Px4Mode.OFFBOARD) == ACCEPTED  # disarmed: accepted
+    assert set_mode(h, Px4Mode.OFFBOARD) == TEMP_REJECTED  # PX4: OFFBOARD needs the setpoint stream, armed or not
+    velocity(h, 0, 0, 0)
+    assert set_mode(h, Px4Mode.OFFBOARD) == ACCEPTED
+    h.run(1.1)
     assert h.command(400, 1) == TEMP_REJECTED
     assert any(t.startswith("Arming denied") for t in h.texts())
     h.run(1.1)
@@ -365,11 +394,27 @@ def test_datalink_loss_action() -> None:
     assert any("GCS connection lost" in t for t in h.texts())
 
 
-def test_setpoint_with_nan_in_used_field_is_counted_not_applied() -> None:
+def test_setpoint_px4_cannot_fly_is_proof_of_life_and_the_vehicle_hovers() -> None:
+    # PX4: NaN in a used field means "not set"; north then has no setpoint, which the position controller's input
+    # check rejects: offboard stays alive (offboard_control_mode is published) and the vehicle flies its failsafe.
     h = VehicleHarness()
-    velocity(h, NAN, 0.0, 0.0)
-    assert h.vehicle.offboard_setpoint is None
-    assert h.vehicle.rejections["setpoint_non_finite_field"] == 1
+    airborne(h, 5.0)
+    velocity(h, 0.0, 0.0, 0.0)
+    assert set_mode(h, Px4Mode.OFFBOARD) == ACCEPTED
+    start = h.vehicle.position_ned_m.copy()
+    for _ in range(40):
+        velocity(h, NAN, 2.0, 0.0)
+        h.run(0.05)
+    assert h.vehicle.mode is Px4Mode.OFFBOARD and not h.vehicle.offboard_setpoint.flyable
+    assert h.vehicle.rejections["setpoint_not_flyable"] == 40
+    assert h.vehicle.position_ned_m == pytest.approx(start, abs=0.1)
+
+
+def test_setpoint_setting_nothing_is_refused_with_px4_text() -> None:
+    h = VehicleHarness()
+    velocity(h, NAN, NAN, NAN)
+    assert h.vehicle.offboard_setpoint is None and h.vehicle.rejections["setpoint_no_setpoint"] == 1
+    assert "SET_POSITION_TARGET_LOCAL_NED invalid" in h.texts()
 
 
 def test_killed_vehicle_is_silent_and_falls() -> None:
@@ -397,6 +442,7 @@ def test_reposition_by_command_int_and_change_speed() -> None:
     assert h.vehicle.position_ned_m == pytest.approx([20.0, 0.0, -8.0], abs=0.3)
     assert h.vehicle.mode is Px4Mode.AUTO_LOITER
     assert h.command(178, 1, NAN) == DENIED
+    assert h.command(192, -1, 0, 0, NAN, 47.0, 8.0, 500.0) == UNSUPPORTED  # PX4 needs the change-mode flag
 
 
 def test_reposition_refused_without_gps() -> None:

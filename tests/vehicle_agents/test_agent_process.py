@@ -11,6 +11,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -64,16 +65,18 @@ def _wait_state(states, vehicle_id: int, predicate, timeout_s: float, pump=None)
     return None
 
 
-def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(tmp_path: Path) -> None:
+def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(
+    tmp_path: Path, udp_ports: Callable[[int], int], zenoh_endpoint: Callable[[], str],
+) -> None:
     scenario = load_scenario("circle")
-    hub_ep, base, mission = "tcp/127.0.0.1:25860", 25800, "agenttest"
+    hub_ep, base, gcs, mission = zenoh_endpoint(), udp_ports(1), udp_ports(1), "agenttest"
     keys = MissionKeys(mission)
     flood = flood_model_from_config(scenario.flood, seed=scenario.seed, base_dir=scenario.source_dir)
     camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
     configs = vehicle_configs(fleet_plan(scenario, mission))[:1]
     plan = write_plan(tmp_path / "agent_1.json", agent_plan(scenario, 1, "improved", mission))
     ground_station = Signer(create_key_file(tmp_path / "mission.key"), GROUND_STATION)
-    with Fleet(configs, base_port=base, gcs_port=25850, speed=SPEED) as fleet, \
+    with Fleet(configs, base_port=base, gcs_port=gcs, speed=SPEED) as fleet, \
             ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
         states = hub.subscribe(keys.state(1))
         alive = hub.subscribe_alive(keys.alive(1))

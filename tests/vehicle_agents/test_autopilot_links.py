@@ -26,8 +26,9 @@ async def _until(predicate, timeout_s: float) -> bool:  # noqa: ANN001
     return False
 
 
-@pytest.mark.parametrize(("make_link", "port"), [(MavsdkAutopilotLink, 26010), (PymavlinkAutopilotLink, 26020)])
-def test_link_arms_takes_off_and_flies_offboard_velocity(make_link, port: int) -> None:  # noqa: ANN001
+@pytest.mark.parametrize("make_link", [MavsdkAutopilotLink, PymavlinkAutopilotLink])
+def test_link_arms_takes_off_and_flies_offboard_velocity(make_link, udp_ports) -> None:  # noqa: ANN001
+    port = udp_ports(1)
     async def fly(fleet: Fleet) -> None:
         link = make_link(f"udpin://0.0.0.0:{port}")
         try:
@@ -52,9 +53,11 @@ def test_link_arms_takes_off_and_flies_offboard_velocity(make_link, port: int) -
         asyncio.run(fly(fleet))
 
 
-def test_connect_without_autopilot_is_a_clear_error() -> None:
+def test_connect_without_autopilot_is_a_clear_error(udp_ports) -> None:  # noqa: ANN001
+    port = udp_ports(1)
+
     async def connect() -> None:
-        link = MavsdkAutopilotLink("udpin://0.0.0.0:26030")
+        link = MavsdkAutopilotLink(f"udpin://0.0.0.0:{port}")
         try:
             await link.connect(1.0)
         finally:
@@ -64,12 +67,13 @@ def test_connect_without_autopilot_is_a_clear_error() -> None:
         asyncio.run(connect())
 
 
-def test_mavsdk_telemetry_arrives_without_waking_the_event_loop() -> None:
+def test_mavsdk_telemetry_arrives_without_waking_the_event_loop(udp_ports) -> None:  # noqa: ANN001
+    port, gcs = udp_ports(1), udp_ports(1)
     """Telemetry is stored on MAVSDK's own callback thread: it stays fresh while the loop is busy, and connecting
     leaves no task behind that the loop would have to run for every MAVLink message."""
 
     async def watch() -> None:
-        link = MavsdkAutopilotLink("udpin://0.0.0.0:26040")
+        link = MavsdkAutopilotLink(f"udpin://0.0.0.0:{port}")
         try:
             tasks_before = len(asyncio.all_tasks())
             await link.connect(10.0)
@@ -82,16 +86,17 @@ def test_mavsdk_telemetry_arrives_without_waking_the_event_loop() -> None:
         finally:
             await link.close()
 
-    with Fleet([VehicleConfig(0)], base_port=26040, gcs_port=26045):
+    with Fleet([VehicleConfig(0)], base_port=port, gcs_port=gcs):
         asyncio.run(watch())
 
 
-def test_mavsdk_link_asks_px4_for_the_streams_it_reads_and_stops_the_rest() -> None:
+def test_mavsdk_link_asks_px4_for_the_streams_it_reads_and_stops_the_rest(udp_ports) -> None:  # noqa: ANN001
+    port, gcs = udp_ports(1), udp_ports(1)
     """Against PX4's own onboard rates, connecting sets them with MAV_CMD_SET_MESSAGE_INTERVAL (MAVSDK set_rate_*)
     on the onboard link only; the ground station's link keeps its rates."""
 
     async def connect(fleet: Fleet) -> None:
-        link = MavsdkAutopilotLink("udpin://0.0.0.0:26050")
+        link = MavsdkAutopilotLink(f"udpin://0.0.0.0:{port}")
         try:
             await link.connect(10.0)
             onboard = fleet.vehicles[0].stream_rates_hz(ONBOARD)
@@ -103,5 +108,5 @@ def test_mavsdk_link_asks_px4_for_the_streams_it_reads_and_stops_the_rest() -> N
         finally:
             await link.close()
 
-    with Fleet([VehicleConfig(0, stream_profile="px4")], base_port=26050, gcs_port=26055) as fleet:
+    with Fleet([VehicleConfig(0, stream_profile="px4")], base_port=port, gcs_port=gcs) as fleet:
         asyncio.run(connect(fleet))

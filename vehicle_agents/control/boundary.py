@@ -15,6 +15,7 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mission_plan.control_params import ControlMode
 from vehicle_agents.control.beta import separation_velocity
 from vehicle_agents.control.edge_rate import feedforward, update_edge_rate
 from vehicle_agents.control.encircle import (
@@ -52,7 +53,7 @@ def boundary_step(
 ) -> tuple[NDArray[np.float64], ControlMemory]:
     """One step of eq 8 + Algorithm 1: (velocity [m/s; E, N, U], new memory)."""
     entry = memory.entry
-    improved = params.mode == "improved"
+    improved = params.mode == ControlMode.IMPROVED
     q = np.asarray(own.position_en_m, dtype=float)
     dt = 0.0 if memory.last_t_s is None else max(t_s - memory.last_t_s, 0.0)
     boundary_nbrs = [n for n in neighbours if n.role == ROLE_BOUNDARY]

@@ -28,6 +28,7 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mission_plan.control_params import ControlMode
 from vehicle_agents.control.beta import separation_velocity
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
@@ -92,7 +93,7 @@ def follower_step(
         target, target_rate = q, np.zeros(2)
 
     velocity = np.asarray(params.k_follower_per_s) * (target - q) + target_rate
-    if params.mode == "improved":
+    if params.mode == ControlMode.IMPROVED:
         others = np.array([n.position_en_m for n in neighbours], dtype=float).reshape(-1, 2)
         velocity = velocity + safety_velocity(q, others, params.safety_radius_m, params.safety_gain_mps)
     else:

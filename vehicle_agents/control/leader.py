@@ -15,6 +15,8 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mission_plan.control_params import ControlMode
+from mission_plan.geometry import ring_area_centroid
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.safety import safety_velocity, yielded_to
@@ -28,14 +30,8 @@ def polygon_area_centroid(points_en_m: NDArray[np.float64]) -> NDArray[np.float6
     if p.shape[0] < 3:
         return mean
     order = np.argsort(np.arctan2(p[:, 1] - mean[1], p[:, 0] - mean[0]))
-    ring = p[order]
-    x, y = ring[:, 0], ring[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cross = x * yn - xn * y
-    area2 = float(cross.sum())
-    if abs(area2) < 1e-9:
-        return mean
-    return np.array([((x + xn) * cross).sum() / (3.0 * area2), ((y + yn) * cross).sum() / (3.0 * area2)])
+    area_m2, centroid = ring_area_centroid(p[order])
+    return mean if abs(area_m2) < 5e-10 else centroid
 
 
 def leader_step(
@@ -50,10 +46,10 @@ def leader_step(
     if boundary:
         qb = np.array([n.position_en_m for n in boundary], dtype=float)
         vb = np.array([n.velocity_en_mps for n in boundary], dtype=float)
-        target = polygon_area_centroid(qb) if params.mode == "improved" and encircled else qb.mean(axis=0)
+        target = polygon_area_centroid(qb) if params.mode == ControlMode.IMPROVED and encircled else qb.mean(axis=0)
         velocity = np.asarray(params.k_leader_per_s) * (target - q) + vb.mean(axis=0)
         radius = float(np.mean(np.hypot(qb[:, 0] - target[0], qb[:, 1] - target[1])))
-    if params.mode == "improved":
+    if params.mode == ControlMode.IMPROVED:
         others = np.array([n.position_en_m for n in yielded_to(ROLE_LEADER, neighbours)], dtype=float).reshape(-1, 2)
         velocity = velocity + safety_velocity(q, others, params.safety_radius_m, params.safety_gain_mps)
     speed = float(np.hypot(velocity[0], velocity[1]))

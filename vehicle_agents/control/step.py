@@ -13,6 +13,7 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from mission_plan.control_params import ControlMode
 from vehicle_agents.control.boundary import boundary_step
 from vehicle_agents.control.follower import follower_step
 from vehicle_agents.control.leader import leader_step
@@ -108,7 +109,7 @@ def control_step(
         velocity, memory = follower_step(memory, own, heard, params, t_s)
     else:
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
-    if params.mode == "improved" and heard:
+    if params.mode == ControlMode.IMPROVED and heard:
         velocity[:2] = _collision_barrier(role, velocity[:2], own, heard, params)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)

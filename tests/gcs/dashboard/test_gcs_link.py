@@ -14,6 +14,7 @@ from comms.latest_buffer import LatestValueBuffer
 from comms.messages import decode, encode
 from gcs.dashboard.gcs_link import GcsDashboardLink
 from gcs.processes.event_log import EventLog
+from gcs.processes.mission_phase import MissionPhase
 from gcs.scenario import load_scenario
 
 
@@ -37,7 +38,8 @@ def _signed(request: OperatorRequest, key: MissionKey = _KEY) -> bytes:
     return Signer(key, GROUND_STATION).sign(encode(request), wall_clock_us())
 
 
-def _link(tmp_path: Path, phase: str = "mission") -> tuple[GcsDashboardLink, RecordingHub, list[str], EventLog]:
+def _link(tmp_path: Path, phase: MissionPhase = MissionPhase.MISSION
+          ) -> tuple[GcsDashboardLink, RecordingHub, list[str], EventLog]:
     keys = MissionKeys("unit")
     events = EventLog(tmp_path / "events.log", lambda: 12.5)
     station = SimpleNamespace(keys=keys, events=events, phase=phase, scenario=load_scenario("circle", []),

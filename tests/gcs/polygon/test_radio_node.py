@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from comms.messages import GroundTruth, NeighbourState, encode
-from comms.radio_emulator import RadioRelay
+from comms.radio_relay import RadioRelay
 from comms.radio_model import GROUND_NODE_ID, RadioModel
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.polygon.radio_node import ANTENNA_HEIGHT_M, GroundNode, antenna_enu_m

@@ -11,7 +11,7 @@ os.environ["MAVLINK20"] = "1"
 from pymavlink import mavutil  # noqa: E402
 from pymavlink.dialects.v20 import common as mavlink2  # noqa: E402
 
-from gcs.processes.mavlink_frames import px4_mode_name, split_frames  # noqa: E402
+from comms.px4 import mode_name as px4_mode_name, split_frames  # noqa: E402
 from gcs.processes.mavlink_watch import MavlinkWatcher  # noqa: E402
 
 

@@ -1,6 +1,6 @@
 """When the ground station calls a vehicle lost: two heartbeat periods, which the simulation speed stretches."""
 
-from gcs.processes.ground_station import VEHICLE_LOST_AFTER_S, vehicle_lost_after_s
+from gcs.processes.fleet_readiness import VEHICLE_LOST_AFTER_S, vehicle_lost_after_s
 
 
 def test_two_seconds_at_or_above_real_time_and_stretched_below_it() -> None:

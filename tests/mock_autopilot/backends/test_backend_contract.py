@@ -5,11 +5,11 @@ from typing import Callable
 import numpy as np
 import pytest
 
+from comms.px4 import Px4Mode
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleBackend, VehicleRequest
 from mock_autopilot.backends.kinematic import KinematicBackend
 from mock_autopilot.backends.px4 import Px4Backend, px4_vehicle_configs
 from mock_autopilot.kinematics import KinematicLimits
-from mock_autopilot.px4_modes import Px4Mode
 
 N = 3
 DT_S = 0.05

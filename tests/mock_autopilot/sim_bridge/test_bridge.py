@@ -15,7 +15,6 @@ from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleT
 from mock_autopilot.world.flood_model import ExpandingCircle
 
 pytestmark = pytest.mark.integration
-HUB = "tcp/127.0.0.1:25701"
 
 
 def _vehicle(vid: int, east: float, up: float) -> VehicleTruth:
@@ -33,9 +32,10 @@ def _drain_until(buf, predicate, timeout_s: float = 5.0):  # noqa: ANN001, ANN20
     return got
 
 
-def test_bridge_publishes_truth_frames_and_follows_flood_clock() -> None:
+def test_bridge_publishes_truth_frames_and_follows_flood_clock(zenoh_endpoint) -> None:  # noqa: ANN001
+    hub_ep = zenoh_endpoint()
     keys = MissionKeys("bridgetest")
-    with ZenohSession(ZenohConfig.hub(HUB)) as hub, ZenohSession(ZenohConfig.member(HUB)) as sim:
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as sim:
         truth_buf = hub.subscribe(keys.truth)
         cam_buf = hub.subscribe(keys.all_cameras)
         time.sleep(0.5)
@@ -61,14 +61,15 @@ def test_bridge_publishes_truth_frames_and_follows_flood_clock() -> None:
         assert cameras.flood_time_s(10.0) == pytest.approx(7.0)
 
 
-def test_only_camera_users_get_frames() -> None:
+def test_only_camera_users_get_frames(zenoh_endpoint) -> None:  # noqa: ANN001
+    hub_ep = zenoh_endpoint()
     from mock_autopilot.sim_bridge.bridge import camera_users
 
     roles = {1: "boundary", 2: "leader", 3: "follower", 4: "boundary"}
     assert camera_users(roles) == {1, 4}
     assert camera_users(roles, "all") is None
     keys = MissionKeys("bridgecams")
-    with ZenohSession(ZenohConfig.hub("tcp/127.0.0.1:25702")) as hub, ZenohSession(ZenohConfig.member("tcp/127.0.0.1:25702")) as sim:
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub, ZenohSession(ZenohConfig.member(hub_ep)) as sim:
         cam_buf = hub.subscribe(keys.all_cameras)
         time.sleep(0.5)
         cameras = CameraStreamer(sim, "bridgecams", ExpandingCircle(), CameraModel(), seed=1, camera_period_s=0.1,
@@ -80,7 +81,7 @@ def test_only_camera_users_get_frames() -> None:
         assert sorted(decode(CameraFrame, r.payload).vehicle_id for r in got) == [1]
 
 
-def test_camera_process_renders_from_published_truth(tmp_path) -> None:  # noqa: ANN001
+def test_camera_process_renders_from_published_truth(tmp_path, zenoh_endpoint) -> None:  # noqa: ANN001
     """``python -m mock_autopilot.sim_bridge.cameras`` turns the fleet's published truth into camera frames."""
     import subprocess
     import sys
@@ -89,7 +90,7 @@ def test_camera_process_renders_from_published_truth(tmp_path) -> None:  # noqa:
     from mock_autopilot.sim_bridge.bridge import ground_truth_message
 
     keys = MissionKeys("camproc")
-    hub_ep = "tcp/127.0.0.1:25703"
+    hub_ep = zenoh_endpoint()
     with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
         cam_buf = hub.subscribe(keys.all_cameras)
         log = (tmp_path / "cameras.log").open("wb")

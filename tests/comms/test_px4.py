@@ -2,7 +2,7 @@
 
 import pytest
 
-from mock_autopilot.px4_modes import (
+from comms.px4 import (
     MODE_TABLE,
     Px4Mode,
     base_mode,
