@@ -69,8 +69,6 @@ class FleetTruth:
     has_gps: NDArray[np.bool_]
     gps_ok: NDArray[np.bool_]
     modes: tuple[str, ...]
-    tilt_rad: NDArray[np.float64] | None = None
-    """(N, 2) body (roll, pitch) [rad] as ATTITUDE reports it (the body-fixed camera looks through it)."""
 
 
 @dataclass(frozen=True)
@@ -370,7 +368,6 @@ class Fleet:
             has_gps=np.array([v.config.has_gps for v in self.vehicles], dtype=bool),
             gps_ok=np.array([v.global_position_valid for v in self.vehicles], dtype=bool),
             modes=tuple(v.mode.value for v in self.vehicles),
-            tilt_rad=np.array([v.tilt_rad() for v in self.vehicles], dtype=float).reshape(-1, 2),
         )
 
     def ports(self, instance: int) -> VehiclePorts:
