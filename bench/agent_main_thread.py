@@ -80,9 +80,14 @@ def replay(recorded: dict[str, object], repeat: int) -> tuple[dict[str, float], 
     vehicle = recorded["vehicle"]
     vid = vehicle.vehicle_id  # type: ignore[attr-defined]
     keys = MissionKeys("bench")
+    key = _mission_key()
+    signed_from_us = time.time_ns() // 1000
+    tagger = _tagger(key)
+    replay_now_us = _replay_clock(signed_from_us)
     wire: list[tuple[bytes | None, bytes | None]] = []
     for seq, tick in enumerate(recorded["ticks"]):  # type: ignore[attr-defined]
-        bundle = encode(RadioBundle(t_s=tick["t_s"], entries=tick["states"])) if tick["states"] else None
+        entries = [(sender, _signed(tagger, state, sender, signed_from_us + seq)) for sender, state in tick["states"]]
+        bundle = encode(RadioBundle(t_s=tick["t_s"], entries=entries)) if entries else None
         frame = None
         if tick["frame"] is not None:
             image, (height, width), altitude_m, fov_deg, t_s = tick["frame"]
@@ -90,12 +95,13 @@ def replay(recorded: dict[str, object], repeat: int) -> tuple[dict[str, float], 
                                        fov_deg=fov_deg, width_px=width, height_px=height, encoding="raw_bgr",
                                        image=image))
         wire.append((bundle, frame))
-    command = encode(MissionCommand(seq=1, t_s=0.0, command="start", flood_clock_start_t_s=0.0))
+    command = _signed(tagger, encode(MissionCommand(seq=1, t_s=0.0, command="start", flood_clock_start_t_s=0.0)), 0,
+                      signed_from_us)
     best = {stage: float("inf") for stage in STAGES}
     digest = hashlib.sha256()
     for run in range(repeat):
         session = _MemorySession()
-        swarm = _agent_swarm_link(session, keys.mission, vid)
+        swarm = _agent_swarm_link(session, keys.mission, vid, key, recorded["params"].relay_max_hops > 0)
         inbox_buffer = swarm.link.buffer
         unpack = bundle_unpacker(keys)
         session.feed(keys.command, command)
@@ -106,7 +112,8 @@ def replay(recorded: dict[str, object], repeat: int) -> tuple[dict[str, float], 
         spent = dict.fromkeys(STAGES, 0.0)
         perception, frame_seq = None, -1
         clock = time.thread_time
-        for tick, (bundle, frame) in zip(recorded["ticks"], wire):  # type: ignore[arg-type]
+        for seq, (tick, (bundle, frame)) in enumerate(zip(recorded["ticks"], wire)):  # type: ignore[arg-type]
+            replay_now_us[0] = signed_from_us + seq
             t0 = clock()
             if bundle is not None:
                 inbox_buffer.put_many(unpack(keys.inbox(vid), bundle))
@@ -128,15 +135,14 @@ def replay(recorded: dict[str, object], repeat: int) -> tuple[dict[str, float], 
                                    perception=(perception,), inbox=(inbox,), orders=(tick["order"],), stop=(False,))
             outputs, state = onboard_step(plan, state, inputs)
             t5 = clock()
-            swarm.publish_state(outputs.state_messages[0])
-            session.put(keys.pace(vid), b"ack")
+            _publish(swarm, session, keys, vid, outputs.state_messages[0])
             t6 = clock()
             for stage, start, end in zip(STAGES, (t0, t1, t2, t3, t4, t5), (t1, t2, t3, t4, t5, t6)):
                 spent[stage] += end - start
             if run == 0:
                 digest.update(repr((outputs.actions, outputs.velocity_setpoint_ned_mps.tolist(),
                                     outputs.yaw_ned_rad.tolist())).encode())
-                digest.update(session.sent[-2])
+                digest.update(encode(outputs.state_messages[0]))
         for stage in STAGES:
             best[stage] = min(best[stage], 1000.0 * spent[stage] / len(wire))
     return best, digest.hexdigest()[:16]
@@ -169,16 +175,68 @@ class _MemorySession:
         self.sent.append(payload)
 
 
-def _agent_swarm_link(session: _MemorySession, mission: str, vid: int) -> object:
-    """The checkout's own agent swarm link (its subscriptions, its decoding) on the in-memory session."""
+def _mission_key() -> object | None:
+    """A fixed mission key when the checkout signs its messages (None for a checkout from before signing)."""
+    try:
+        from comms.signing import MissionKey  # noqa: PLC0415
+    except ImportError:
+        return None
+    return MissionKey(bytes(range(32)))
+
+
+def _tagger(key: object | None) -> object | None:
+    """The key's tagger, set up once (None for a checkout from before signing)."""
+    if key is None:
+        return None
+    from comms.signing import Tagger  # noqa: PLC0415
+
+    return Tagger(key)  # type: ignore[arg-type]
+
+
+def _signed(tagger: object | None, body: bytes, sender: int, timestamp_us: int) -> bytes:
+    """``body`` as the sender puts it on the wire: signed when the checkout signs."""
+    if tagger is None:
+        return body
+    from comms.signing import sign  # noqa: PLC0415
+
+    return sign(tagger, body, sender, timestamp_us)  # type: ignore[arg-type]
+
+
+def _replay_clock(start_us: int) -> list[int]:
+    """The receivers' wall clock during a replay: the signing time of the tick being replayed (set per tick in the
+    returned cell), so that however slowly the host replays, the tag checks pass as they did in flight."""
+    import comms.swarm_link as link_module  # noqa: PLC0415
+    import vehicle_agents.swarm_link_zenoh as agent_module  # noqa: PLC0415
+
+    now_us = [start_us]
+    for module in (link_module, agent_module):
+        if hasattr(module, "wall_clock_us"):
+            module.wall_clock_us = lambda: now_us[0]  # type: ignore[attr-defined]
+    return now_us
+
+
+def _agent_swarm_link(session: _MemorySession, mission: str, vid: int, key: object | None, relays: bool) -> object:
+    """The checkout's own agent swarm link (its subscriptions, its decoding, its tag checks) on the in-memory
+    session."""
     import vehicle_agents.swarm_link_zenoh as module  # noqa: PLC0415
 
     original = module.ZenohSession
     module.ZenohSession = lambda _config: session  # type: ignore[assignment,misc]
     try:
-        return module.ZenohSwarmLink(vid, mission, None, via_radio=True)  # type: ignore[arg-type]
+        if key is None:
+            return module.ZenohSwarmLink(vid, mission, None, via_radio=True)  # type: ignore[arg-type]
+        return module.ZenohSwarmLink(vid, mission, None, via_radio=True, key=key,  # type: ignore[arg-type]
+                                     relays=relays)
     finally:
         module.ZenohSession = original  # type: ignore[misc]
+
+
+def _publish(swarm: object, session: _MemorySession, keys: object, vid: int, message: object) -> None:
+    """What the agent sends after its step: the state message and, in a checkout whose state message does not
+    carry the pace acknowledgement, a separate acknowledgement."""
+    swarm.publish_state(message)  # type: ignore[attr-defined]
+    if not hasattr(message, "pace_t_s"):
+        session.put(keys.pace(vid), b"ack")  # type: ignore[attr-defined]
 
 
 def main() -> int:

@@ -24,6 +24,7 @@ import itertools
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import msgspec
 
@@ -84,6 +85,15 @@ def wall_clock_us() -> int:
     return time.time_ns() // 1000
 
 
+class StateDecoder(Protocol):
+    """Decodes the state payloads of one poll (e.g. sharing what several messages carry alike); ``next_poll`` is
+    called before each poll's first payload."""
+
+    def next_poll(self) -> None: ...
+
+    def decode(self, payload: bytes | memoryview, stats: DecodeStats) -> HeardState | None: ...
+
+
 @dataclass(frozen=True)
 class RejectedMessage:
     """A payload dropped by the tag check: the key it came on, why, and the sender it claimed (None if unsigned)."""
@@ -123,6 +133,7 @@ class SwarmLink:
         key: MissionKey | None = None,
         audit: bool = False,
         state_type: type[NeighbourState] | type[NeighbourStateForControl] = NeighbourState,
+        state_decoder: StateDecoder | None = None,
     ) -> None:
         """Subscribe (inbox or public states, plus liveliness) and declare this participant's token.
 
@@ -139,6 +150,7 @@ class SwarmLink:
         self.via_radio = via_radio
         self.stats = decode_stats if stats is None else stats
         self.state_type = state_type
+        self.state_decoder = state_decoder
         self._sender_of_key: dict[str, int | None] = {}
         self.buffer = LatestValueBuffer(max_keys=AUDIT_MAX_PENDING if audit else 4096)
         self.rejected_spoofed = 0
@@ -167,6 +179,9 @@ class SwarmLink:
         update = FeedUpdate()
         alive_prefix = self.keys.prefix + "/alive/"
         verifier = self.verifier
+        decoder = self.state_decoder
+        if decoder is not None:
+            decoder.next_poll()
         now_us = wall_clock_us()
         for item in self.buffer.drain():
             if item.key.startswith(alive_prefix):
@@ -190,7 +205,8 @@ class SwarmLink:
                                                            item.source))
                     continue
                 payload = verdict.body
-            state = decode(self.state_type, payload, self.stats)
+            state = (decode(self.state_type, payload, self.stats) if decoder is None
+                     else decoder.decode(payload, self.stats))
             if state is None:
                 continue
             if key_id != state.sender_id:

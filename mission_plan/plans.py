@@ -23,10 +23,12 @@ from mission_plan.control_params import ControlParams
 from mission_plan.dynamics import KinematicLimits
 from mission_plan.fleet import VehicleSpec
 from mission_plan.home import GeodeticHome
+from mission_plan.jitter import start_delays_s
 from mission_plan.roles import ROLES
 from mission_plan.imaging import ImagingSpec, mean_wind_en_mps
 from mission_plan.scenario_schema import CameraSpec, Scenario
 from mission_plan.table_fields import ScenarioError
+from mission_plan.weather import SensorSpec, WindSpec
 
 PLAN_TAG_FIELD = "plan"
 """The key naming a plan file's kind and version, e.g. ``"plan": "agent/1"``."""
@@ -55,6 +57,8 @@ class AgentPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_fie
     camera: CameraSpec
     home: GeodeticHome
     seed: int
+    start_delay_s: float = 0.0
+    """How long after the flood clock starts this agent starts its mission [s] (the seeded start jitter)."""
 
     def __post_init__(self) -> None:
         if self.vehicle.role not in ROLES:
@@ -69,8 +73,8 @@ class AgentPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_fie
 
 class FleetPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_field=PLAN_TAG_FIELD, tag="fleet/1"):
     """The simulated fleet: every vehicle (pads, GPS, ids), home, the dynamics (PX4 limits and the response time),
-    the take-off altitude [m], the control rate [Hz] (the truth is published at it), the camera and the world
-    (for cameras streamed from the fleet's own process)."""
+    the take-off altitude [m], the control rate [Hz] (the truth is published at it), the camera, the world
+    (for cameras streamed from the fleet's own process) and the weather (``[wind]``, ``[sensors]``)."""
 
     mission: str
     scenario: str
@@ -82,6 +86,8 @@ class FleetPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_fie
     control_rate_hz: float
     camera: CameraSpec
     world: WorldPlan
+    wind: WindSpec = msgspec.field(default_factory=WindSpec)
+    sensors: SensorSpec = msgspec.field(default_factory=SensorSpec)
 
     def __post_init__(self) -> None:
         ids = [v.vehicle_id for v in self.vehicles]
@@ -131,6 +137,8 @@ def agent_plan(scenario: Scenario, vehicle_id: int, mode: str, mission: str | No
         mission=mission or scenario.name, scenario=scenario.name, vehicle=spec, params=scenario.control_params(mode),
         control_rate_hz=scenario.control_rate_hz, altitude_m=scenario.altitude_m, camera=scenario.camera,
         home=scenario.home, seed=scenario.seed,
+        start_delay_s=start_delays_s(tuple(v.vehicle_id for v in scenario.vehicles), scenario.start_jitter_s,
+                                     scenario.seed)[scenario.vehicles.index(spec)],
     )
 
 
@@ -140,6 +148,7 @@ def fleet_plan(scenario: Scenario, mission: str | None = None) -> FleetPlan:
         mission=mission or scenario.name, scenario=scenario.name, vehicles=scenario.vehicles, home=scenario.home,
         kinematics=scenario.kinematics, altitude_m=scenario.altitude_m, seed=scenario.seed,
         control_rate_hz=scenario.control_rate_hz, camera=scenario.camera, world=world_plan(scenario),
+        wind=scenario.wind, sensors=scenario.sensors,
     )
 
 

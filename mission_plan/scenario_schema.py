@@ -3,8 +3,10 @@
 A scenario says where the mission is (``[home]``), what floods (``[flood]``, validated by the world's
 ``flood_model_from_config``), who flies (``[fleet]``, :mod:`mission_plan.fleet`), the camera (``[camera]``) and
 its imaging conditions (``[imaging]``, :mod:`mission_plan.imaging`), the radio (``[radio]``), the vehicle limits
-(``[kinematics]``) and the control parameters (``[control]``, with
-``[control.paper]``/``[control.improved]``, :mod:`mission_plan.control_params`). Any error raises
+(``[kinematics]``), the control parameters (``[control]``, with ``[control.paper]``/``[control.improved]``,
+:mod:`mission_plan.control_params`) and the weather (``weather`` preset, ``[wind]``, ``[sensors]``,
+:mod:`mission_plan.weather`; the preset's defaults are filled in first, under the user's own keys,
+:mod:`mission_plan.weather_presets`). Any error raises
 :class:`~mission_plan.table_fields.ScenarioError` whose one-line message names the field; an unknown key in any
 table but ``[flood]`` names the closest known key here (the flood's own keys are checked with the flood model).
 """
@@ -24,6 +26,9 @@ from mission_plan.imaging import ImagingSpec, imaging_spec
 from mission_plan.roster import RosterEntry
 from mission_plan.scenarios import SCENARIO_DIR
 from mission_plan.table_fields import ScenarioError, integer, number, reject_unknown, sub_table
+from mission_plan.weather import SensorSpec, WindSpec, sensor_spec, wind_spec
+from mission_plan.weather_presets import DEFAULT_WEATHER, WEATHER_KEY, apply_weather_preset, weather_name
+from mission_plan.jitter import jittered_pads
 
 LaunchResolver = Callable[[Mapping[str, Any], Mapping[str, Any], int, Path], dict[str, Any]]
 """``(fleet, flood, seed, source_dir) -> fleet`` with ``launch_en_m`` filled in: how "auto" pads are resolved."""
@@ -88,6 +93,11 @@ class Scenario:
     control_rate_hz: float = 20.0
     polygon_period_s: float = 1.0
     source_dir: Path = field(default=SCENARIO_DIR)
+    weather: str = DEFAULT_WEATHER
+    wind: WindSpec = field(default_factory=WindSpec)
+    sensors: SensorSpec = field(default_factory=SensorSpec)
+    start_jitter_s: float = 0.0
+    """Each agent starts its mission up to this long after the flood clock (drawn from the seed by the engine)."""
     imaging: ImagingSpec = field(default=ImagingSpec())
 
     def roster(self) -> tuple[RosterEntry, ...]:
@@ -106,7 +116,7 @@ class Scenario:
 
 TOP_KEYS = frozenset({"name", "description", "seed", "duration_s", "altitude_m", "control_rate_hz",
                       "polygon_period_s", "home", "flood", "fleet", "camera", "radio", "kinematics", "control",
-                      "imaging"})
+                      WEATHER_KEY, "wind", "sensors", "imaging"})
 _HOME_KEYS = frozenset(f.name for f in fields(GeodeticHome))
 _CAMERA_KEYS = frozenset(f.name for f in fields(CameraSpec))
 _RADIO_KEYS = frozenset(f.name for f in fields(RadioSpec))
@@ -178,6 +188,8 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
     ``resolve_launch`` fills in ``launch_en_m = "auto"`` (it needs the flood model, which this leaf package does
     not have); without it an "auto" scenario raises a :class:`ScenarioError` that says to use a plan file.
     """
+    weather = weather_name(raw)
+    raw = apply_weather_preset(raw, TOP_KEYS)
     check_keys(raw)
     name = raw.get("name", default_name)
     if not isinstance(name, str) or not name:
@@ -199,7 +211,8 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         altitude_m=number(raw, "altitude_m", 10.0, "", positive=True),
         home=_home(sub_table(raw, "home")),
         flood=flood,
-        vehicles=build_fleet(fleet),
+        vehicles=jittered_pads(build_fleet(fleet), number(fleet, "pad_jitter_m", 0.0, "fleet", non_negative=True),
+                               seed),
         camera=camera_spec(sub_table(raw, "camera")),
         radio=_radio(sub_table(raw, "radio")),
         kinematics=_kinematics(sub_table(raw, "kinematics")),
@@ -207,6 +220,10 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         control_rate_hz=number(raw, "control_rate_hz", 20.0, "", positive=True, maximum=1000.0),
         polygon_period_s=number(raw, "polygon_period_s", 1.0, "", positive=True),
         source_dir=source_dir,
+        weather=weather,
+        wind=wind_spec(sub_table(raw, "wind")),
+        sensors=sensor_spec(sub_table(raw, "sensors")),
+        start_jitter_s=number(fleet, "start_jitter_s", 0.0, "fleet", non_negative=True),
         imaging=imaging_spec(sub_table(raw, "imaging")),
     )
     for mode in MODES:

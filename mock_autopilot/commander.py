@@ -7,6 +7,8 @@ mock_autopilot/README.md. STATUSTEXTs the commander announces go to ``state.pend
 
 from __future__ import annotations
 
+import math
+
 from pymavlink.dialects.v20 import common as mavlink
 
 from comms.px4 import (
@@ -34,6 +36,8 @@ SEVERITY_WARNING = mavlink.MAV_SEVERITY_WARNING
 SEVERITY_INFO = mavlink.MAV_SEVERITY_INFO
 _HOLD_HERE_MODES = (Px4Mode.AUTO_LOITER, Px4Mode.AUTO_READY, Px4Mode.POSCTL, Px4Mode.ALTCTL, Px4Mode.STABILIZED,
                     Px4Mode.MANUAL, Px4Mode.AUTO_TAKEOFF)
+WIND_WARNING_PERIOD_S = 60.0
+"""PX4 repeats the high-wind warning at most once a minute."""
 _BACK_TO_HOLD_ON_DISARM = (Px4Mode.AUTO_LAND, Px4Mode.AUTO_RTL, Px4Mode.AUTO_TAKEOFF)
 
 
@@ -58,6 +62,9 @@ def arming_denial(v: VehicleState, now_s: float) -> str | None:
         return f"{v.mode.value} needs a global position"
     if v.mode == Px4Mode.OFFBOARD and not v.offboard_fresh(now_s):
         return "no offboard signal"
+    wind_max = v.params["COM_WIND_MAX"]
+    if wind_max > 0.0 and horizontal_wind_mps(v) > wind_max:
+        return f"Wind speed is above limit ({horizontal_wind_mps(v):.1f} m/s)"
     if v.battery.remaining < v.params["BAT_EMERGEN_THR"]:
         return "battery too low"
     return None
@@ -172,7 +179,35 @@ def check_timers(v: VehicleState, t_s: float) -> None:
         failsafe_to(v, Px4Mode.AUTO_LAND, "global position lost")
     _check_datalink(v, t_s)
     _check_battery(v)
+    _check_wind(v, t_s)
     _check_auto_disarm(v, t_s)
+
+
+def horizontal_wind_mps(v: VehicleState) -> float:
+    """Speed [m/s] of the estimator's horizontal wind."""
+    wind = v.wind_estimate_ned_mps
+    return float(math.hypot(wind[0], wind[1]))
+
+
+def _check_wind(v: VehicleState, t_s: float) -> None:
+    """PX4's wind check: above COM_WIND_MAX a Return failsafe (once, until the wind drops or the vehicle
+    disarms), else above COM_WIND_WARN a warning at most once a minute, not while returning or landing."""
+    warn, limit = v.params["COM_WIND_WARN"], v.params["COM_WIND_MAX"]
+    if (warn <= 0.0 and limit <= 0.0) or v.weather is None:
+        return
+    speed = horizontal_wind_mps(v)
+    exceeded = limit > 0.0 and speed > limit
+    if not exceeded or not v.armed:
+        v.wind_limit_latched = False
+    if exceeded:
+        if v.armed and not v.on_ground() and not v.wind_limit_latched:
+            v.wind_limit_latched = True
+            failsafe_to(v, Px4Mode.AUTO_RTL, f"wind speed above limit ({speed:.1f} m/s)")
+        return
+    quiet = v.wind_warning_t_s is not None and t_s - v.wind_warning_t_s <= WIND_WARNING_PERIOD_S
+    if warn > 0.0 and speed > warn and not quiet and v.mode not in (Px4Mode.AUTO_RTL, Px4Mode.AUTO_LAND):
+        v.pending.append(text(SEVERITY_WARNING, f"High wind speed detected ({speed:.1f} m/s), landing advised"))
+        v.wind_warning_t_s = t_s
 
 
 def _check_datalink(v: VehicleState, t_s: float) -> None:

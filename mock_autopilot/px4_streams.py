@@ -32,6 +32,7 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "DISTANCE_SENSOR": 10.0,
             "BATTERY_STATUS": 0.5,
             "POSITION_TARGET_LOCAL_NED": 10.0,
+            "WIND_COV": 1.0,
         },
         GCS: {
             "HEARTBEAT": 1.0,
@@ -47,6 +48,7 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "DISTANCE_SENSOR": 0.5,
             "BATTERY_STATUS": 0.5,
             "POSITION_TARGET_LOCAL_NED": 1.5,
+            "WIND_COV": 0.5,
         },
     },
     "reduced": {
@@ -64,6 +66,7 @@ STREAM_PROFILES: dict[str, dict[str, dict[str, float]]] = {
             "DISTANCE_SENSOR": 2.0,
             "BATTERY_STATUS": 0.5,
             "POSITION_TARGET_LOCAL_NED": 2.0,
+            "WIND_COV": 0.5,
         },
         GCS: {
             "HEARTBEAT": 1.0,

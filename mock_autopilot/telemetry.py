@@ -57,6 +57,11 @@ AUTOPILOT_CAPABILITIES = (
 )
 
 
+DEFAULT_EPH_CM = 80
+DEFAULT_EPV_CM = 120
+"""GPS_RAW_INT accuracies of a good fix [cm] when the sensors are exact."""
+
+
 class VehicleSnapshot(NamedTuple):
     """Everything telemetry reports about one vehicle at one simulated time.
 
@@ -93,6 +98,12 @@ class VehicleSnapshot(NamedTuple):
     battery_charge_state: int
     """MAV_BATTERY_CHARGE_STATE: 1 ok, 2 low, 3 critical, 4 emergency."""
     offboard_setpoint: OffboardSetpoint | None
+    eph_cm: int = DEFAULT_EPH_CM
+    """GPS horizontal / vertical accuracy [cm] reported in GPS_RAW_INT."""
+    epv_cm: int = DEFAULT_EPV_CM
+    wind_ned_mps: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    """The estimator's wind [m/s NED] (WIND_COV)."""
+    wind_variance_m2s2: float = 0.0
 
     @property
     def geodetic(self) -> tuple[float, float, float]:
@@ -177,9 +188,17 @@ def gps_raw_int(s: VehicleSnapshot) -> mavlink.MAVLink_message:
     ground_speed = math.hypot(vel[0], vel[1])
     cog = int(round(math.degrees(math.atan2(vel[1], vel[0])) * 100)) % 36000
     return mavlink.MAVLink_gps_raw_int_message(
-        usec, 3, int(round(lat * 1e7)), int(round(lon * 1e7)), int(round(alt * 1000)), 80, 120,
+        usec, 3, int(round(lat * 1e7)), int(round(lon * 1e7)), int(round(alt * 1000)), s.eph_cm, s.epv_cm,
         int(round(ground_speed * 100)), cog, 12,
     )
+
+
+def wind_cov(s: VehicleSnapshot) -> mavlink.MAVLink_message:
+    """The estimator's wind as PX4 sends it: north and east components, the horizontal variance, no vertical
+    estimate (NaN) and the altitude it holds at."""
+    w = s.wind_ned_mps
+    return mavlink.MAVLink_wind_cov_message(
+        int(s.t_s * 1e6), w[0], w[1], math.nan, s.wind_variance_m2s2, math.nan, s.amsl_m, math.nan, math.nan)
 
 
 def extended_sys_state(s: VehicleSnapshot) -> mavlink.MAVLink_message:
@@ -266,6 +285,7 @@ BUILDERS: dict[str, Callable[[VehicleSnapshot], mavlink.MAVLink_message | None]]
     "EXTENDED_SYS_STATE": extended_sys_state,
     "HOME_POSITION": home_position,
     "ATTITUDE": attitude,
+    "WIND_COV": wind_cov,
     "ALTITUDE": altitude,
     "VFR_HUD": vfr_hud,
     "DISTANCE_SENSOR": distance_sensor,

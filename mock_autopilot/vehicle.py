@@ -23,12 +23,13 @@ from __future__ import annotations
 import math
 from typing import Callable
 
+import numpy as np
 from pymavlink.dialects.v20 import common as mavlink
 
 from comms.px4 import MavResult, Px4Mode
 from mock_autopilot import commander, telemetry
 from mock_autopilot.commander import SEVERITY_CRITICAL, SEVERITY_WARNING, text
-from mock_autopilot.kinematics import step_kinematics
+from mock_autopilot.kinematics import KinematicState, step_kinematics
 from mock_autopilot.position_control import fall, velocity_command, yaw_step
 from mock_autopilot.px4_params import PARAM_INDEX, PARAM_SPECS, PARAM_TABLE, ParamError
 from mock_autopilot.px4_params import decode_param_value, encode_param_value
@@ -257,13 +258,22 @@ class Vehicle(VehicleState):
         if self.armed:
             command, yaw_target, yaw_rate = velocity_command(self, t)
             self.commanded_down_mps = float(command[2])
-            wind = self.wind_ned if self.wind_ned is not None and not self.on_ground() else None
-            new_body = step_kinematics(self.body, command, self.limits(), dt, wind_ned_mps=wind)
+            if self.weather is not None:
+                new_body = self._fly_in_weather(command, dt)
+            else:
+                wind = self.wind_ned if self.wind_ned is not None and not self.on_ground() else None
+                new_body = step_kinematics(self.body, command, self.limits(), dt, wind_ned_mps=wind)
             max_rate = math.radians(self.params["MPC_YAWRAUTO_MAX"])
             self.yaw_rad, self.yaw_rate_rad_s = yaw_step(self.yaw_rad, yaw_target, yaw_rate, max_rate, dt)
         else:
             new_body = fall(self.body, self.on_ground(), dt)
             self.yaw_rate_rad_s = 0.0
+        if self.weather is not None:
+            if not self.armed:
+                self.reference_velocity_ned_mps = new_body.velocity_ned_mps
+            self.weather.sensor_step(self.t_s, dt, (new_body.position_ned_m - self.body.position_ned_m)[None, :])
+            estimate, yaw = self.weather.estimate(new_body.position_ned_m[None, :], np.array([self.yaw_rad]))
+            self.estimate_ned_m, self.estimate_yaw_rad = estimate[0], float(yaw[0])
         if new_body is not self.body:
             self.accel_ned = (new_body.velocity_ned_mps - self.body.velocity_ned_mps) / dt
             self.body = new_body
@@ -275,6 +285,23 @@ class Vehicle(VehicleState):
         self._update_ground(t)
         commander.check_timers(self, t)
 
+    def _fly_in_weather(self, command: np.ndarray, dt: float) -> KinematicState:
+        """The commanded (reference) motion of the kinematics plus what the wind adds against PX4's velocity loop
+        (:mod:`mock_autopilot.wind_response`, the same laws the lockstep kinematics fly)."""
+        weather = self.weather
+        assert weather is not None
+        body = self.body
+        reference = step_kinematics(KinematicState(body.position_ned_m, self.reference_velocity_ned_mps), command,
+                                    self.limits(), dt)
+        accel = (reference.velocity_ned_mps - self.reference_velocity_ned_mps) / dt
+        before = weather.disturbance.error_mps[0]
+        airborne = np.array([not self.on_ground()])
+        after = weather.air_step(self.t_s, dt, reference.velocity_ned_mps[None, :], accel[None, :], airborne)[0]
+        position = reference.position_ned_m + 0.5 * (before + after) * dt
+        position[2] = min(float(position[2]), 0.0)
+        self.reference_velocity_ned_mps = reference.velocity_ned_mps
+        return KinematicState(position_ned_m=position, velocity_ned_mps=reference.velocity_ned_mps + after)
+
     def _update_ground(self, t: float) -> None:
         """The land detector: on the ground without climb demand (or taking off) starts its timer."""
         climbing = self.armed and (self.commanded_down_mps < -0.1 or self.mode == Px4Mode.AUTO_TAKEOFF)
@@ -283,7 +310,7 @@ class Vehicle(VehicleState):
                 self.ground_since_s = t
         else:
             self.ground_since_s = None
-        if self.armed and float(self.position_ned_m[2]) < -0.5:
+        if self.armed and float(self.body.position_ned_m[2]) < -0.5:  # the truth: altitude noise is no take-off
             self.took_off = True
 
 

@@ -26,6 +26,7 @@ from mock_autopilot.px4_params import ParamStore
 from mock_autopilot.px4_streams import DEFAULT_PROFILE
 from mock_autopilot.setpoints import OffboardSetpoint
 from mock_autopilot.stream_schedule import StreamSchedule
+from mock_autopilot.weather_model import Weather, WeatherModel, velocity_loop_gains
 
 LAND_DETECT_S = 0.5
 GROUND_TOLERANCE_M = 0.05
@@ -63,6 +64,8 @@ class VehicleConfig:
     ``kinematics.response_time_s`` the lockstep kinematics read."""
     stream_profile: str = DEFAULT_PROFILE
     system_id: int | None = None
+    weather: Weather | None = None
+    """Wind and sensor errors (None or calm: still air, exact estimator)."""
 
     @property
     def sysid(self) -> int:
@@ -129,11 +132,31 @@ class VehicleState:
         self._limits_version = -1
         self._limits_cache = KinematicLimits()
         self.wind_ned = np.asarray(config.wind_ned_mps, dtype=float) if any(config.wind_ned_mps) else None
+        self.weather: WeatherModel | None = None
+        if config.weather is not None and not config.weather.calm:
+            self.weather = WeatherModel(config.weather, [self.system_id], velocity_loop_gains(self.params.__getitem__),
+                                        [config.has_gps])
+        self.reference_velocity_ned_mps = np.zeros(3)
+        self.wind_warning_t_s: float | None = None
+        self.wind_limit_latched = False
+        self.estimate_ned_m: NDArray[np.float64] | None = None
+        self.estimate_yaw_rad: float | None = None
 
     @property
     def position_ned_m(self) -> NDArray[np.float64]:
-        """Position [m; local NED from the pad]."""
-        return self.body.position_ned_m
+        """Position [m; local NED from the pad] as the estimator knows it: what the vehicle flies on and reports
+        (``body`` holds the truth)."""
+        return self.body.position_ned_m if self.estimate_ned_m is None else self.estimate_ned_m
+
+    @property
+    def wind_estimate_ned_mps(self) -> NDArray[np.float64]:
+        """The estimator's wind [m/s NED] (zero in still air; held on the ground, where it is not estimated)."""
+        return np.zeros(3) if self.weather is None else self.weather.wind_estimate_ned_mps[0]
+
+    @property
+    def reported_yaw_rad(self) -> float:
+        """Heading [rad] as the estimator knows it."""
+        return self.yaw_rad if self.estimate_yaw_rad is None else self.estimate_yaw_rad
 
     @property
     def velocity_ned_mps(self) -> NDArray[np.float64]:
@@ -159,7 +182,8 @@ class VehicleState:
         return self.setpoint_t_s
 
     def on_ground(self) -> bool:
-        return float(self.position_ned_m[2]) >= -GROUND_TOLERANCE_M
+        """The body touches the ground (the truth: the ground stops it whatever the estimator thinks)."""
+        return float(self.body.position_ned_m[2]) >= -GROUND_TOLERANCE_M
 
     def landed_for(self, seconds: float) -> bool:
         """The land detector has said "landed" for ``seconds`` beyond its own LAND_DETECT_S."""
@@ -182,7 +206,11 @@ class VehicleState:
         return now_s - self.setpoint_t_s <= self.params["COM_OF_LOSS_T"]
 
     def tilt_rad(self) -> tuple[float, float]:
-        """(roll, pitch) a multicopter would show for the current horizontal acceleration."""
+        """(roll, pitch) a multicopter would show for the current horizontal acceleration (in weather: for the
+        thrust that holds it against the wind)."""
+        if self.weather is not None:
+            roll, pitch = self.weather.tilt_rad(np.array([self.yaw_rad]))
+            return float(roll[0]), float(pitch[0])
         c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
         a_forward = c * self.accel_ned[0] + s * self.accel_ned[1]
         a_right = -s * self.accel_ned[0] + c * self.accel_ned[1]

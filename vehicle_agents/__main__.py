@@ -109,6 +109,7 @@ def agent_config(plan: AgentPlan, *, rate_hz: float | None = None, speed: float 
         paced=paced,
         connect_timeout_s=connect_timeout_s,
         limits=PhaseLimits(takeoff_altitude_m=plan.altitude_m, link_timeout_s=link_timeout_s),
+        start_delay_s=plan.start_delay_s,
     )
 
 

@@ -64,6 +64,8 @@ class AgentConfig:
     """Tick on the simulator's clock ticks (``--clock paced``) instead of the agent's own wall-clock loop."""
     connect_timeout_s: float = 30.0
     limits: PhaseLimits = field(default_factory=PhaseLimits)
+    start_delay_s: float = 0.0
+    """The mission starts this long after the flood clock [s] (the plan's seeded start jitter); the drone hovers."""
 
 
 @dataclass
@@ -238,7 +240,11 @@ class Agent:
                 if msg.command in _COMMANDS:
                     self._command = _COMMANDS[msg.command]
         age_s = None if self._command_wall_s is None else now_wall_s - self._command_wall_s
-        return GroundOrder(self._command, age_s, self._flood_clock_start_s)
+        command = self._command
+        if command is Command.START and self._flood_clock_start_s is not None and \
+                self._t_s < self._flood_clock_start_s + self.config.start_delay_s:
+            command = None
+        return GroundOrder(command, age_s, self._flood_clock_start_s)
 
     async def _execute(self, action: Action, velocity_ned_mps: tuple[float, float, float], yaw_ned_rad: float) -> None:
         now_s = time.monotonic()
@@ -282,7 +288,9 @@ class Agent:
         if image is None:
             self._perception = PerceptionResult.no_measurement()
             return
+        # Edge points go to the ground with the attitude the autopilot reports (ATTITUDE), not the simulator's: a
+        # camera without a gimbal knows only its vehicle's estimate.
         attitude = self.link.telemetry
-        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, frame.yaw_ned_rad,
+        self._perception = perceive(image, frame.altitude_m, frame.fov_deg, attitude.yaw_ned_rad,
                                     roll_rad=attitude.roll_rad, pitch_rad=attitude.pitch_rad)
         self.stats.frames_processed += 1

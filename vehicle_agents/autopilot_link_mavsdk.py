@@ -48,10 +48,11 @@ _LOG_LEVEL_TO_KEEP = LogLevel.WARN
 
 TELEMETRY_RATES_HZ: dict[str, float] = {
     "position_velocity_ned": 20.0,  # LOCAL_POSITION_NED: the control law's input, at the default control rate
-    "attitude_euler": 10.0,  # ATTITUDE: yaw, only carried in the state message
+    "attitude_euler": 10.0,  # ATTITUDE: the heading perception projects the camera's edge points with
     "position": 10.0,  # GLOBAL_POSITION_INT: the GPS leader's latitude/longitude for the ground station
     "altitude": -1.0,  # ALTITUDE: not read
     "fixedwing_metrics": -1.0,  # VFR_HUD: not read
+    "distance_sensor": -1.0,  # DISTANCE_SENSOR: not read (perception takes its height from the camera frame)
 }
 """MAVSDK ``Telemetry.set_rate_<name>`` -> rate [Hz of the autopilot's clock]; -1 stops the stream (MAVSDK sends
 interval -1), 0 would restore the autopilot's default."""

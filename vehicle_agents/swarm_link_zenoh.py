@@ -17,6 +17,7 @@ from comms.signing import GROUND_STATION, MissionKey, Verifier
 from comms.swarm_link import SwarmLink, wall_clock_us
 from comms.zenoh_session import ZenohConfig, ZenohSession
 from vehicle_agents.core.neighbours import Inbox
+from vehicle_agents.heard_state_decoder import HeardStateDecoder
 
 
 class ZenohSwarmLink:
@@ -25,14 +26,16 @@ class ZenohSwarmLink:
     def __init__(self, vehicle_id: int, mission: str, zenoh: ZenohConfig, *, via_radio: bool, key: MissionKey,
                  relays: bool = False) -> None:
         """``relays``: this drone forwards what it hears (multi-hop), so neighbour states are decoded whole, relayed
-        copies and edge points included; otherwise only the fields the control laws read."""
+        copies and edge points included (each distinct copy once, :mod:`vehicle_agents.heard_state_decoder`);
+        otherwise only the fields the control laws read."""
         self.vehicle_id = vehicle_id
         self.keys = MissionKeys(mission)
         self.session = ZenohSession(zenoh)
         self._camera = self.session.subscribe(self.keys.camera(vehicle_id))
         self._command_buf = self.session.subscribe(self.keys.command)
         self.link = SwarmLink(self.session, self.keys, vehicle_id, via_radio=via_radio, key=key,
-                              state_type=NeighbourState if relays else NeighbourStateForControl)
+                              state_type=NeighbourState if relays else NeighbourStateForControl,
+                              state_decoder=HeardStateDecoder() if relays else None)
         self.command_verifier = Verifier(key)
         self._frame: CameraFrame | None = None
         self._command: MissionCommand | None = None

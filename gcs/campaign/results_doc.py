@@ -21,6 +21,7 @@ from gcs.campaign.grid import Mode, expand, parse_grid_axis, parse_seeds
 from gcs.campaign.results_hydro import hydro_section
 from gcs.campaign.results_radio import BURST_MEANS_S, LOSS_CAMPAIGN, LOSS_GRID, RADIO_FIXED, burst_campaign, burst_fixed
 from gcs.campaign.results_radio import radio_section
+from gcs.campaign.results_weather import PRESET_MODES, weather_campaign, weather_fixed, weather_section
 from gcs.campaign.store import read_rows
 from gcs.campaign.summary import Stats, distribution, failed_rows, finite_values, ok_rows
 
@@ -99,6 +100,7 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("pluvial", "pluvial", "1"),
     Campaign(LOSS_CAMPAIGN, "circle", "1-20", (LOSS_GRID,), (Mode.IMPROVED,), RADIO_FIXED),
     *(Campaign(burst_campaign(b), "circle", "1-20", (), (Mode.IMPROVED,), burst_fixed(b)) for b in BURST_MEANS_S),
+    *(Campaign(weather_campaign(p), "circle", "1-20", (), modes, weather_fixed(p)) for p, modes in PRESET_MODES.items()),
 )
 
 PDOT_KEY = "grid:control.pdot_reading"
@@ -183,10 +185,8 @@ def distribution_table(groups: Sequence[tuple[Sequence[str], Sequence[Row], int]
     return lines
 
 
-def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
-    """The whole RESULTS.md from the campaigns' rows (pure)."""
-    ok = {name: ok_rows(rows) for name, rows in rows_by_campaign.items()}
-    circle = ok.get("circle", [])
+def _preamble(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> list[str]:
+    """Where the numbers come from, the modes, how to read a cell, and the campaigns with their commands."""
     versions = sorted({str(r.get("code_version")) for rows in rows_by_campaign.values() for r in rows})
     out = [
         "# Results",
@@ -230,8 +230,14 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         wall = distribution(r.get("wall_s") for r in rows)
         out.append(f"| `{campaign.name}` | {campaign.planned_runs()} | {len(rows)} | {len(failed_rows(rows))} | "
                    f"{fmt_stats(wall, '{:.0f}')} |")
+    return out
+
+
+def _circle_and_scenarios(ok: Mapping[str, Sequence[Row]]) -> list[str]:
+    """The targets on `circle` and every bundled scenario in both modes."""
+    circle = ok.get("circle", [])
     seeds = next((c.seeds for c in CAMPAIGNS if c.name == "circle"), "")
-    out += [
+    out = [
         "",
         f"## Targets on `circle`, seeds {seeds}",
         "",
@@ -256,7 +262,13 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         for mode in (Mode.PAPER, Mode.IMPROVED):
             groups.append(([f"`{campaign.scenario}`", vehicles, mode.value, campaign.seeds], _mode_rows(rows, mode),
                            planned))
-    out += [*distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
+    return [*out, *distribution_table(groups, ["scenario", "vehicles", "mode", "seeds"]), ""]
+
+
+def _pdot_section(ok: Mapping[str, Sequence[Row]]) -> list[str]:
+    """Eq 5's ṗ feed-forward read three ways on `circle`."""
+    circle = ok.get("circle", [])
+    seeds = next((c.seeds for c in CAMPAIGNS if c.name == "circle"), "")
     pdot_rows = ok.get("circle-pdot", [])
     pdot_groups = []
     pdot_seeds = len(parse_seeds(next((c.seeds for c in CAMPAIGNS if c.name == "circle-pdot"), "1")))
@@ -266,7 +278,7 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         for reading in ("full", "none"):
             pdot_groups.append(([mode.value, reading],
                                 [r for r in _mode_rows(pdot_rows, mode) if r.get(PDOT_KEY) == reading], pdot_seeds))
-    out += [
+    return [
         "## ṗ feed-forward readings of eq 5 on `circle` (SPEC §2)",
         "",
         "`normal`: only the edge-normal part of ṗ (both modes' default; the rows of the `circle` campaign); `full`: "
@@ -276,8 +288,15 @@ def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
         *distribution_table(pdot_groups, ["mode", "ṗ reading"]),
         "",
     ]
+
+
+def render(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> str:
+    """The whole RESULTS.md from the campaigns' rows (pure)."""
+    ok = {name: ok_rows(rows) for name, rows in rows_by_campaign.items()}
+    out = [*_preamble(rows_by_campaign, stamp), *_circle_and_scenarios(ok), *_pdot_section(ok)]
     out += hydro_section(ok)
     out += radio_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == LOSS_CAMPAIGN))))
+    out += weather_section(ok, len(parse_seeds(next(c.seeds for c in CAMPAIGNS if c.name == weather_campaign("moderate")))))
     failed = [(name, r) for name, rows in rows_by_campaign.items() for r in failed_rows(rows)]
     if failed:
         out += ["## Failed runs", "", "| campaign | mode | seed | grid cell | error |", "|---|---|---|---|---|"]

@@ -4,7 +4,8 @@ The flood clock starts with every vehicle hovering at the nominal altitude over 
 flood clock starts when all are airborne): the vehicle backend's ``hover_start`` brings them there (the px4
 backend flies the real arm, take-off and OFFBOARD sequence). Each control period:
 
-1. the backend's state becomes every drone's telemetry (odometry = truth here; GPS drones get the true fix);
+1. the backend's state becomes every drone's telemetry: its autopilot's estimate (position, heading, GPS fix; the
+   truth when the sensors are exact), while the radio, the camera and the record use the truth;
 2. each receiver's inbox is what the in-memory radio delivers by now (range on true positions, loss, latency);
 3. when a camera frame is due (``[camera] rate_hz``, the grid of :mod:`mock_autopilot.periodic_schedule`) every
    drone's frame is rendered and perceived; in between, each drone keeps its newest result, as an agent does;
@@ -36,6 +37,7 @@ from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.scenario import Scenario
 from mission_plan.control_params import ControlMode
+from mission_plan.jitter import start_delays_s
 from mission_plan.roles import Role
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
@@ -89,19 +91,21 @@ class LockstepResult:
     """State-message bytes put on the air (each broadcast once)."""
 
 
-def telemetry_of(state: BackendState, positions_enu_m: NDArray[np.float64], gps: NDArray[np.bool_],
+def telemetry_of(state: BackendState, pads_enu_m: NDArray[np.float64], gps: NDArray[np.bool_],
                  scenario: Scenario) -> TelemetryBatch:
-    """What each drone's autopilot reports: the backend's state, modes in MAVSDK's spelling, a GPS fix where fitted."""
+    """What each drone's autopilot reports: its estimate of the state, modes in MAVSDK's spelling, a GPS fix where
+    fitted."""
     n = state.vehicle_count
+    positions_enu_m = local_ned_to_mission_enu(state.reported_position_ned_m, pads_enu_m)
     lat = np.full(n, math.nan)
     lon = np.full(n, math.nan)
     if np.any(gps):
         fix = enu_to_geodetic(positions_enu_m[gps], scenario.home)
         lat[gps], lon[gps] = fix[:, 0], fix[:, 1]
     return TelemetryBatch(
-        position_ned_m=state.position_ned_m,
+        position_ned_m=state.reported_position_ned_m,
         velocity_ned_mps=state.velocity_ned_mps,
-        yaw_ned_rad=state.yaw_ned_rad,
+        yaw_ned_rad=state.reported_yaw_ned_rad,
         armed=state.armed,
         in_air=state.in_air,
         flight_mode=tuple(MAVSDK_MODE_NAMES.get(mode, mode) for mode in state.flight_mode),
@@ -116,15 +120,17 @@ def telemetry_of(state: BackendState, positions_enu_m: NDArray[np.float64], gps:
 
 def _perception_for(
     flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int,
-    pose: CameraPose, imaging: ImagingSpec,
+    pose: CameraPose, imaging: ImagingSpec, heading_error_rad: float = 0.0,
 ) -> PerceptionResult:
     """Render and perceive one frame from the body's true tilt, under the scenario's imaging conditions; perception
     scales by the downward rangefinder's height above ground, as the agent does with PX4's DISTANCE_SENSOR (equal
-    to the altitude over flat ground), and projects with the attitude (here the true one, as ATTITUDE reports)."""
+    to the altitude over flat ground), and projects with the attitude the autopilot reports: the frame is rendered
+    heading north (the ground does not care which way the drone faces), so perception is off by the autopilot's
+    heading error, as an agent's is; roll and pitch are the true ones here."""
     frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed, pose=pose, imaging=imaging)
     height_m = max(height_above_ground_m(flood, position_enu_m), MIN_ALTITUDE_M)
     roll, pitch = pose.tilt_rad
-    return perceive(frame.image_bgr, height_m, camera.fov_deg, 0.0, roll_rad=roll, pitch_rad=pitch)
+    return perceive(frame.image_bgr, height_m, camera.fov_deg, heading_error_rad, roll_rad=roll, pitch_rad=pitch)
 
 
 def run_lockstep(
@@ -160,8 +166,10 @@ def run_lockstep(
         pads_en_m=tuple((float(p[0]), float(p[1])) for p in pads), has_gps=tuple(bool(g) for g in gps),
         params=params, limits=PhaseLimits(takeoff_altitude_m=scenario.altitude_m),
     )
-    core = initial_state(plan, Phase.MISSION)
-    orders = (GroundOrder(Command.START, 0.0, 0.0),) * n
+    delays_s = start_delays_s(tuple(ids), scenario.start_jitter_s, seed)
+    core = initial_state(plan, Phase.STANDBY if any(delays_s) else Phase.MISSION)
+    started = GroundOrder(Command.START, 0.0, 0.0)
+    waiting = GroundOrder(None, 0.0, 0.0)
     dt_s = 1.0 / scenario.control_rate_hz
     steps = int(math.floor(duration_s / dt_s + 1e-9))
     radio = InMemoryRadio(
@@ -169,7 +177,7 @@ def run_lockstep(
         [*ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else ids,
     )
     ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(pads))
-    fleet = make_backend(backend, scenario)
+    fleet = make_backend(backend, scenario, seed)
     state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
     ring_order = params.ring_order()
@@ -214,9 +222,12 @@ def run_lockstep(
                     pose = CameraPose(tilt_rad=(float(tilts[i, 0]), float(tilts[i, 1])), vehicle_id=ids[i],
                                       velocity_en_mps=(float(velocity_ned[i, 1]), float(velocity_ned[i, 0])),
                                       wind_en_mps=wind)
-                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging)
+                    heading_error = float(state.reported_yaw_ned_rad[i] - state.yaw_ned_rad[i])
+                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging,
+                                                     heading_error)
                     frames += 1
-        inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, positions, gps, scenario),
+        orders = tuple(started if t_s >= delay - 1e-9 else waiting for delay in delays_s)
+        inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, pads, gps, scenario),
                                perception=perceptions, inbox=inboxes, orders=orders)
         outputs, core = onboard_step(plan, core, inputs)
         if ground is None:

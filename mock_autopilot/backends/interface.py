@@ -50,6 +50,10 @@ def read_only(array: NDArray[np.generic]) -> NDArray[np.generic]:
     return array
 
 
+def _optional(values: ArrayLike | None, shape: tuple[int, ...]) -> NDArray[np.float64] | None:
+    return None if values is None else read_only(np.array(values, dtype=float).reshape(shape))
+
+
 @dataclass(frozen=True, eq=False)
 class BackendState:
     """Every vehicle at mission time ``t_s`` [s]; rows follow the backend's vehicle order.
@@ -59,6 +63,10 @@ class BackendState:
     values of :class:`comms.px4.Px4Mode`: "OFFBOARD", "POSCTL", "AUTO.LOITER", "AUTO.LAND", ...;
     see :data:`MAVSDK_MODE_NAMES` for MAVSDK's spelling), battery_fraction [(N,) 0..1]. The arrays are read-only;
     equality is identity (arrays have no single truth value).
+
+    Position, velocity and yaw are the truth (what the metrics, the camera and the radio use). What each
+    autopilot's estimator reports (what the agents see) is ``estimated_position_ned_m`` / ``estimated_yaw_ned_rad``
+    (None: the truth, exact sensors); ``roll_rad`` / ``pitch_rad`` the true tilt (None: level).
     """
 
     t_s: float
@@ -70,6 +78,26 @@ class BackendState:
     flight_mode: tuple[str, ...]
     battery_fraction: NDArray[np.float64]
     alive: NDArray[np.bool_]
+    estimated_position_ned_m: NDArray[np.float64] | None = None
+    estimated_yaw_ned_rad: NDArray[np.float64] | None = None
+    roll_rad: NDArray[np.float64] | None = None
+    pitch_rad: NDArray[np.float64] | None = None
+
+    @property
+    def reported_position_ned_m(self) -> NDArray[np.float64]:
+        """The position each autopilot reports [m; (N,3) local NED]: its estimate."""
+        return self.position_ned_m if self.estimated_position_ned_m is None else self.estimated_position_ned_m
+
+    @property
+    def reported_yaw_ned_rad(self) -> NDArray[np.float64]:
+        """The heading each autopilot reports [rad; (N,)]: its estimate."""
+        return self.yaw_ned_rad if self.estimated_yaw_ned_rad is None else self.estimated_yaw_ned_rad
+
+    @property
+    def tilt_rad(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """True (roll, pitch) [rad; (N,) each], level when the backend models none."""
+        zero = np.zeros(self.vehicle_count)
+        return (zero if self.roll_rad is None else self.roll_rad, zero if self.pitch_rad is None else self.pitch_rad)
 
     @classmethod
     def of(
@@ -83,6 +111,10 @@ class BackendState:
         flight_mode: Sequence[str],
         battery_fraction: ArrayLike,
         alive: ArrayLike,
+        estimated_position_ned_m: ArrayLike | None = None,
+        estimated_yaw_ned_rad: ArrayLike | None = None,
+        roll_rad: ArrayLike | None = None,
+        pitch_rad: ArrayLike | None = None,
     ) -> BackendState:
         """A state built from copies of the given arrays (so a backend's later steps never change it)."""
         return cls(
@@ -95,6 +127,10 @@ class BackendState:
             flight_mode=tuple(flight_mode),
             battery_fraction=read_only(np.array(battery_fraction, dtype=float).reshape(-1)),
             alive=read_only(np.array(alive, dtype=bool).reshape(-1)),
+            estimated_position_ned_m=_optional(estimated_position_ned_m, (-1, 3)),
+            estimated_yaw_ned_rad=_optional(estimated_yaw_ned_rad, (-1,)),
+            roll_rad=_optional(roll_rad, (-1,)),
+            pitch_rad=_optional(pitch_rad, (-1,)),
         )
 
     @property

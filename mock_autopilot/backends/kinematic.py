@@ -22,6 +22,10 @@ What it deliberately does not model (use :class:`mock_autopilot.backends.px4.Px4
   not simulated here (``hover_start`` places the vehicles), and there is no way back to OFFBOARD.
 * Yaw follows the setpoint's yaw at once (PX4 turns at up to MPC_YAWRAUTO_MAX); a NaN yaw keeps the heading.
 * A killed (power-lost) vehicle falls as the mock PX4's does (:func:`fall_batch`).
+
+Weather (``weather``, not calm): the commanded motion above is each vehicle's reference; the wind and PX4's
+velocity loop fighting it add to it (:class:`mock_autopilot.weather_model.WeatherModel`, the same laws the mock
+PX4 flies), the state reports the estimator's position and heading beside the truth, and the true tilt.
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ from mock_autopilot.backends.interface import BackendState, VehicleRequest, read
 from mock_autopilot.kinematics import KinematicLimits
 from mock_autopilot.px4_params import PARAM_SPECS
 from mock_autopilot.vehicle_state import GRAVITY_MPS2, GROUND_TOLERANCE_M
+from mock_autopilot.weather_model import Weather, WeatherModel, velocity_loop_gains
 
 LAND_SPEED_MPS = PARAM_SPECS["MPC_LAND_SPEED"].default
 """PX4's default MPC_LAND_SPEED [m/s]: the descent speed of AUTO.LAND (the mock PX4 reads the same default)."""
@@ -121,11 +126,19 @@ class KinematicBackend:
     copies (a copy of seven arrays per step would cost more than the physics).
     """
 
-    def __init__(self, limits: KinematicLimits, n: int) -> None:
+    def __init__(self, limits: KinematicLimits, n: int, weather: Weather | None = None,
+                 vehicle_ids: Sequence[int] | None = None, has_gps: Sequence[bool] | None = None) -> None:
         if n < 1:
             raise ValueError(f"n: a fleet needs at least one vehicle, got {n}")
         self.limits = limits
         self._n = n
+        ids = list(vehicle_ids) if vehicle_ids is not None else list(range(1, n + 1))
+        gps = list(has_gps) if has_gps is not None else [True] * n
+        self.weather = None if weather is None or weather.calm else WeatherModel(
+            weather, ids, velocity_loop_gains(lambda name: PARAM_SPECS[name].default), gps)
+        self._reference = read_only(np.zeros((n, 3)))
+        self._estimate: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+        self._tilt: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
         self._t_s = 0.0
         self._position = read_only(np.zeros((n, 3)))
         self._velocity = read_only(np.zeros((n, 3)))
@@ -156,7 +169,10 @@ class KinematicBackend:
         hover = np.tile([0.0, 0.0, -altitude_m], (self._n, 1))
         self._position = read_only(np.where(self._alive[:, None], hover, self._position))  # the dead stay
         self._velocity = read_only(np.zeros((self._n, 3)))
+        self._reference = self._velocity
         self._armed = self._alive
+        if self.weather is not None:
+            self._observe()
         self._set_modes([Px4Mode.OFFBOARD if alive else mode for alive, mode in zip(self._alive, self._modes)])
         return self.state()
 
@@ -182,22 +198,50 @@ class KinematicBackend:
             command[self._landing] = (0.0, 0.0, LAND_SPEED_MPS)
         flying = self._armed
         if flying.all():
-            position, velocity = step_kinematics_batch(
-                self._position, self._velocity, command, self.limits, inputs.dt_s
+            position, reference = step_kinematics_batch(
+                self._position, self._reference, command, self.limits, inputs.dt_s
             )
         else:
-            position, velocity = self._position.copy(), self._velocity.copy()
+            position, reference = self._position.copy(), self._reference.copy()
             if flying.any():
-                position[flying], velocity[flying] = step_kinematics_batch(
-                    position[flying], velocity[flying], command[flying], self.limits, inputs.dt_s
+                position[flying], reference[flying] = step_kinematics_batch(
+                    position[flying], reference[flying], command[flying], self.limits, inputs.dt_s
                 )
             idle = ~flying
-            position[idle], velocity[idle] = fall_batch(position[idle], velocity[idle], inputs.dt_s)
+            position[idle], reference[idle] = fall_batch(position[idle], self._velocity[idle], inputs.dt_s)
+        velocity = reference
+        if self.weather is not None:
+            position, velocity = self._in_weather(position, reference, inputs.dt_s)
         self._position, self._velocity = read_only(position), read_only(velocity)
+        self._reference = read_only(reference)
         if self._landing.any():
             self._disarm_touched_down()
         self._t_s += inputs.dt_s
+        if self.weather is not None:
+            self._observe()
         return self.state()
+
+    def _in_weather(self, position: NDArray[np.float64], reference: NDArray[np.float64], dt_s: float
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The commanded motion plus what the wind adds (module doc); the estimator follows the truth."""
+        weather = self.weather
+        assert weather is not None
+        airborne = self._armed & (self._position[:, 2] < -GROUND_TOLERANCE_M)
+        accel = (reference - self._reference) / dt_s
+        error_before = weather.disturbance.error_mps
+        error = weather.air_step(self._t_s, dt_s, reference, accel, airborne)
+        position = position + 0.5 * (error_before + error) * dt_s
+        below = position[:, 2] > 0.0
+        position[below, 2] = 0.0
+        weather.sensor_step(self._t_s, dt_s, position - self._position)
+        return position, reference + error
+
+    def _observe(self) -> None:
+        """The estimator's view and the tilt of the current truth."""
+        weather = self.weather
+        assert weather is not None
+        self._estimate = tuple(read_only(a) for a in weather.estimate(self._position, self._yaw))  # type: ignore[assignment]
+        self._tilt = tuple(read_only(a) for a in weather.tilt_rad(self._yaw))  # type: ignore[assignment]
 
     def _take_setpoints(self, setpoint: NDArray[np.float64], yaw: NDArray[np.float64], sent: NDArray[np.bool_]) -> None:
         """Keep the setpoints PX4 would accept: sent, finite (PX4 refuses a non-finite used field and flies the
@@ -251,6 +295,10 @@ class KinematicBackend:
             flight_mode=self._mode_names,
             battery_fraction=self._battery,
             alive=self._alive,
+            estimated_position_ned_m=None if self._estimate is None else self._estimate[0],
+            estimated_yaw_ned_rad=None if self._estimate is None else self._estimate[1],
+            roll_rad=None if self._tilt is None else self._tilt[0],
+            pitch_rad=None if self._tilt is None else self._tilt[1],
         )
 
     def kill(self, index: int) -> None:

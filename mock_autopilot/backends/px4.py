@@ -48,6 +48,7 @@ from mock_autopilot.px4_params import PARAM_SPECS, encode_param_value
 from mock_autopilot.px4_streams import GCS, ONBOARD
 from mock_autopilot.setpoints import IGNORE_YAW, MASK_VELOCITY_AND_YAW, MAV_FRAME_LOCAL_NED
 from mock_autopilot.vehicle import Outgoing, Vehicle, VehicleConfig
+from mock_autopilot.weather_model import Weather
 
 STREAM_PROFILE = "minimal"
 AUTOPILOT_COMPONENT_ID = 1
@@ -61,6 +62,9 @@ HOLD_SETTLED_MPS = 0.05
 OFFBOARD_SETTLED_MPS = 0.001
 """Speed [m/s] below which the zero-setpoint OFFBOARD hover counts as at rest: mission time 0 then finds every
 vehicle as the kinematic backend starts it, to millimetres (the residual decays with the response time)."""
+WEATHER_SETTLE_S = 5.0
+"""In weather a vehicle is never at rest (gusts, noisy estimate): each settling step then ends after this long
+[s] at the latest."""
 
 
 def px4_vehicle_configs(
@@ -73,6 +77,7 @@ def px4_vehicle_configs(
     params: Mapping[str, float] | None = None,
     system_ids: Sequence[int] | None = None,
     stream_profile: str = STREAM_PROFILE,
+    weather: Weather | None = None,
 ) -> list[VehicleConfig]:
     """One :class:`VehicleConfig` per pad [m; (N,3) or (N,2) mission ENU], with the plan's dynamics as PX4 reads
     them: MPC_* from ``limits`` (:func:`mock_autopilot.dynamics_params.px4_params`) and the plant's
@@ -97,6 +102,7 @@ def px4_vehicle_configs(
             response_time_s=limits.response_time_s,
             stream_profile=stream_profile,
             system_id=None if system_ids is None else int(system_ids[i]),
+            weather=weather,
         )
         for i, pad in enumerate(pads)
     ]
@@ -163,6 +169,7 @@ class Px4Backend:
         self._gcs_heartbeat = _gcs_heartbeat()
         self._acks: list[Counter[tuple[int, int]]] = [Counter() for _ in self.vehicles]
         self._texts: list[deque[str]] = [deque(maxlen=TEXTS_KEPT) for _ in self.vehicles]
+        self._hold_since: list[float] = []
         self._started = False
 
     @property
@@ -206,6 +213,7 @@ class Px4Backend:
                 raise ValueError(f"altitude_m: vehicle {vehicle.system_id} refused MIS_TAKEOFF_ALT={altitude_m}")
         phases = [_Climb.READY if vehicle.killed else _Climb.ARM for vehicle in self.vehicles]  # the dead stay
         settled_at = [math.inf] * self._n
+        self._hold_since = [math.inf] * self._n
         zero = np.zeros(3)
         deadline = self._vehicle_t_s + self.hover_timeout_s
         while not all(p is _Climb.READY for p in phases):
@@ -222,7 +230,8 @@ class Px4Backend:
                     if self._request(i, VehicleRequest.START_OFFBOARD, t) == MavResult.ACCEPTED:
                         phases[i], settled_at[i] = _Climb.SETTLE, t + self.settle_s
                 elif phases[i] is _Climb.SETTLE and t >= settled_at[i]:
-                    phases[i] = _Climb.READY if self._at_rest(vehicle, OFFBOARD_SETTLED_MPS) else phases[i]
+                    waited = vehicle.weather is not None and t >= settled_at[i] + WEATHER_SETTLE_S
+                    phases[i] = _Climb.READY if waited or self._at_rest(vehicle, OFFBOARD_SETTLED_MPS) else phases[i]
             self._tick(t + SEQUENCE_PERIOD_S)
         self._mission_offset_s = self._vehicle_t_s
         return self.state()
@@ -239,6 +248,9 @@ class Px4Backend:
         if phase is _Climb.TAKEOFF and self._request(i, VehicleRequest.TAKEOFF, t) == MavResult.ACCEPTED:
             return _Climb.CLIMB
         if phase is _Climb.CLIMB and vehicle.mode is Px4Mode.AUTO_LOITER:
+            self._hold_since[i] = min(self._hold_since[i], t)
+            if vehicle.weather is not None and t >= self._hold_since[i] + WEATHER_SETTLE_S:
+                return _Climb.OFFBOARD
             settled = abs(float(vehicle.position_ned_m[2]) + altitude_m) <= HOLD_SETTLED_M
             return _Climb.OFFBOARD if settled and self._at_rest(vehicle, HOLD_SETTLED_MPS) else phase
         return phase
@@ -340,6 +352,7 @@ class Px4Backend:
     # ------------------------------------------------------------------ observation and faults
     def state(self) -> BackendState:
         vehicles = self.vehicles
+        tilts = [v.tilt_rad() for v in vehicles]
         return BackendState.of(
             t_s=self._vehicle_t_s - self._mission_offset_s,
             position_ned_m=[v.body.position_ned_m for v in vehicles],
@@ -350,6 +363,10 @@ class Px4Backend:
             flight_mode=[v.mode.value for v in vehicles],
             battery_fraction=[v.battery_remaining for v in vehicles],
             alive=[not v.killed for v in vehicles],
+            estimated_position_ned_m=[v.position_ned_m for v in vehicles],
+            estimated_yaw_ned_rad=[v.reported_yaw_rad for v in vehicles],
+            roll_rad=[tilt[0] for tilt in tilts],
+            pitch_rad=[tilt[1] for tilt in tilts],
         )
 
     def kill(self, index: int) -> None:

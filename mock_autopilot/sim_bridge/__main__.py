@@ -41,6 +41,7 @@ from mock_autopilot.px4_streams import DEFAULT_PROFILE
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth, camera_users
 from mock_autopilot.sim_bridge.pace_keeper import PaceKeeper
 from mock_autopilot.vehicle import VehicleConfig
+from mock_autopilot.weather_model import Weather
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import relative_ground_m
@@ -53,7 +54,8 @@ def vehicle_configs(plan: FleetPlan) -> list[VehicleConfig]:
     response time, which is not a PX4 parameter)."""
     return px4_vehicle_configs(plan.kinematics, plan.altitude_m, [v.pad_enu_m for v in plan.vehicles],
                                has_gps=[v.has_gps for v in plan.vehicles], home=plan.home,
-                               system_ids=[v.vehicle_id for v in plan.vehicles], stream_profile=DEFAULT_PROFILE)
+                               system_ids=[v.vehicle_id for v in plan.vehicles], stream_profile=DEFAULT_PROFILE,
+                               weather=Weather(plan.wind, plan.sensors, plan.seed, plan.altitude_m))
 
 
 def load_fleet_plan(plan_path: Path | None, scenario: str | None, overrides: Sequence[str]) -> FleetPlan:

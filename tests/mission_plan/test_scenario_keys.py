@@ -74,5 +74,5 @@ def test_resolver_fills_in_auto_pads() -> None:
         assert flood["model"] == "ellipse" and seed == 1 and source_dir == SCENARIO_DIR
         return {**fleet, "launch_en_m": [20.0, 0.0]}
 
-    scenario = load_scenario("ellipse", resolve_launch=resolve)
+    scenario = load_scenario("ellipse", ["fleet.pad_jitter_m=0"], resolve_launch=resolve)  # unjittered pads
     assert len(scenario.vehicles) == 16 and scenario.vehicles[0].pad_enu_m[0] == pytest.approx(20.0)

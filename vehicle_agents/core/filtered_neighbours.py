@@ -36,9 +36,14 @@ def table_hold_s(params: ControlParams) -> float:
 
 def track_step(bank: TrackBank, states: Sequence[NeighbourState], departed: frozenset[int], own_id: int,
                noise: FilterNoise) -> TrackBank:
-    """The bank after one inbox: departed senders removed, every other state (not one's own) filed as a measurement."""
-    measurements = [m for m in states if m.sender_id != own_id and m.sender_id not in departed]
-    return update(without(bank, departed), measurements, noise)
+    """The bank after one inbox: departed senders removed, every other state (not one's own) filed as a measurement.
+
+    A state object met again later in the inbox (an agent decodes a relayed copy once for every carrier that brings
+    it) is filed once: :func:`update` keeps the first of equal measurements of a sender, so this changes nothing but
+    the work.
+    """
+    firsts = {id(m): m for m in states if m.sender_id != own_id and m.sender_id not in departed}
+    return update(without(bank, departed), list(firsts.values()), noise)
 
 
 def filtered_infos(bank: TrackBank, table: Mapping[int, NeighbourState], t_s: float, noise: FilterNoise,

@@ -34,7 +34,9 @@ def test_render_targets_distributions_and_commands() -> None:
     assert "| `circle` | 40 | 41 | 1 | 20 |" in text and "| `large` | 10 | 0 | 0 | — |" in text
     assert "| improved | full | 2 of 20 |" in text and "| paper | normal (default) | 20 |" in text
     assert NOTHING_MOVED in text and "OverflowError: x" in text
-    assert len(CAMPAIGNS) == 14
+    assert len(CAMPAIGNS) == 17
+    assert ("python -m gcs.campaign circle --seeds 1-20 --mode paper,improved --set weather=moderate --workers 1 "
+            "--out runs/results/circle-weather-moderate") in text
 
 
 def test_the_hydro_section_scores_the_caged_component_against_its_targets() -> None:

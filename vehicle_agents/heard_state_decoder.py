@@ -1,0 +1,128 @@
+"""An agent's decoding of the neighbour states it hears, each relayed copy decoded once however many carry it.
+
+With relaying on (improved mode), every state message carries copies of the states its sender heard (multi-hop
+knowledge, :mod:`vehicle_agents.core.relay`), and a drone hearing a dozen neighbours receives the same copies many
+times over: every neighbour relays the same few origins' newest states, and keeps relaying them for a few ticks.
+In ``circle`` a message carries ~5 copies with their edge points (~3 kB), and only about one copy in six a drone
+receives is one it has not already received byte for byte in this tick or the previous one. Decoding each whole
+message decodes and validates all of them again: most of an agent's decoding time.
+
+:class:`HeardStateDecoder` decodes a message's own fields with the copies left as raw bytes, decodes each copy's
+bytes once (with every check :class:`~comms.messages.NeighbourState` makes) and remembers it for two polls, then
+builds the :class:`~comms.messages.NeighbourState`, whose own checks run as in a whole decode. Equal bytes decode
+to equal states, so the result is the whole decode's; a message is dropped and counted when the whole decode would
+drop it (the reason of a bad copy is the copy's).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import msgspec
+
+from comms.messages import (
+    MAX_PAYLOAD_BYTES,
+    MAX_RELAYED,
+    DecodeStats,
+    InvalidMessage,
+    NeighbourState,
+    decode_with_reason,
+)
+
+_KIND = NeighbourState.__name__
+_LIMIT_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
+
+
+def _field(info: msgspec.structs.FieldInfo) -> tuple[str, object] | tuple[str, object, object]:
+    """One field of the mirror: as in :class:`~comms.messages.NeighbourState`, the relayed copies left undecoded."""
+    kind = Annotated[list[msgspec.Raw], msgspec.Meta(max_length=MAX_RELAYED)] if info.name == "relayed" else info.type
+    if info.default is not msgspec.NODEFAULT:
+        return info.name, kind, info.default
+    if info.default_factory is not msgspec.NODEFAULT:
+        return info.name, kind, msgspec.field(default_factory=info.default_factory)
+    return info.name, kind
+
+
+_CONFIG = NeighbourState.__struct_config__
+_StateWithRawCopies = msgspec.defstruct(
+    "_StateWithRawCopies", [_field(info) for info in msgspec.structs.fields(NeighbourState)],
+    frozen=_CONFIG.frozen, omit_defaults=_CONFIG.omit_defaults, tag_field=_CONFIG.tag_field, tag=_CONFIG.tag)
+""":class:`~comms.messages.NeighbourState`'s wire layout, field for field (made from it, so it follows any change),
+with the relayed copies undecoded."""
+
+_outer_decoder = msgspec.msgpack.Decoder(_StateWithRawCopies)
+_SHARED_DEFAULTS = tuple((info.name, info.default) for info in msgspec.structs.fields(_StateWithRawCopies)
+                         if info.default is not msgspec.NODEFAULT)
+"""The defaults a decoder hands out as one shared object (the containers come from factories, fresh each time)."""
+
+
+def _given_fields(wire: Any) -> dict[str, object]:
+    """The fields the message carried: a field it left out holds the shared default object itself, and is left out
+    here so that the state gets its own default, as in a whole decode (``omit_defaults`` encodes by identity)."""
+    fields = msgspec.structs.asdict(wire)
+    for name, default in _SHARED_DEFAULTS:
+        if fields[name] is default:
+            del fields[name]
+    return fields
+
+
+class HeardStateDecoder:
+    """Decodes state messages into :class:`~comms.messages.NeighbourState`, copies shared across messages.
+
+    Call :meth:`next_poll` once per poll of the inbox: copies decoded in this poll and the previous one are reused.
+    Not thread-safe (one per consuming thread, like the poll it serves).
+    """
+
+    def __init__(self) -> None:
+        self._copies: dict[bytes, NeighbourState] = {}
+        self._previous: dict[bytes, NeighbourState] = {}
+        self.copies_decoded = 0
+        self.copies_reused = 0
+
+    def next_poll(self) -> None:
+        """Forget the copies of the poll before the previous one (a copy is relayed for a few ticks at most)."""
+        self._previous, self._copies = self._copies, {}
+
+    def decode(self, payload: bytes | memoryview, stats: DecodeStats) -> NeighbourState | None:
+        """The state in ``payload``, or None (counted in ``stats`` under the reason) when it does not pass."""
+        if len(payload) > _LIMIT_BYTES:
+            stats.count_drop(_KIND, "oversized")
+            return None
+        try:
+            wire = _outer_decoder.decode(payload)
+        except Exception:  # msgspec.DecodeError / ValidationError: let the whole decode name the reason
+            return decode_with_reason(NeighbourState, payload, stats)[0]
+        copies: list[NeighbourState] = []
+        for raw in wire.relayed:
+            copy = self._copy(bytes(raw), stats)
+            if copy is None:
+                return None
+            copies.append(copy)
+        fields = _given_fields(wire)
+        if copies:
+            fields["relayed"] = copies
+        try:
+            state = NeighbourState(**fields)
+        except InvalidMessage:
+            stats.count_drop(_KIND, "invalid")
+            return None
+        stats.count_ok(_KIND)
+        return state
+
+    def _copy(self, raw: bytes, stats: DecodeStats) -> NeighbourState | None:
+        copy = self._copies.get(raw)
+        if copy is not None:
+            self.copies_reused += 1
+            return copy
+        copy = self._previous.get(raw)
+        if copy is None:
+            scratch = DecodeStats()
+            copy, reason = decode_with_reason(NeighbourState, raw, scratch)
+            if copy is None:
+                stats.count_drop(_KIND, reason or "malformed")
+                return None
+            self.copies_decoded += 1
+        else:
+            self.copies_reused += 1
+        self._copies[raw] = copy
+        return copy
