@@ -24,7 +24,8 @@ from typing import Any
 import numpy as np
 
 from bench.camera_perception import flood_named, height_m, machine, poses
-from mission_plan.imaging import ImagingSpec
+from mission_plan.imaging import ImagingSpec, imaging_spec
+from mission_plan.weather_presets import PRESETS
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import CameraPose, render_frame
 from mock_autopilot.camera.truth import ACCURACY_FLOODS, truth_reference
@@ -37,14 +38,15 @@ DEV = {"appearance": (1, 2, 3, 4, 5, 6), "pose": 11}
 HELD_OUT = {"appearance": (101, 202, 303, 404, 505, 606, 707, 808, 909, 1010), "pose": 2027}
 """Seeds kept out of development: the figures reported."""
 
-MODERATE = ImagingSpec(exposure_drift=0.2, white_balance_drift=0.1, vignetting=0.2, noise_sigma=3.0,
-                       exposure_time_s=0.005, jpeg_quality=80, cloud_shadow_cover=0.3, sun_glint=True,
-                       turbid_water_probability=0.5)
-"""The ``moderate`` weather preset's imaging keys (issue 15; vignetting is our reading)."""
-ROUGH = ImagingSpec(exposure_drift=0.4, white_balance_drift=0.2, vignetting=0.4, noise_sigma=6.0,
-                    exposure_time_s=0.005, jpeg_quality=60, cloud_shadow_cover=0.5, sun_glint=True,
-                    turbid_water_probability=1.0, floating_debris=True)
-"""The ``rough`` weather preset's imaging keys."""
+def _preset_imaging(preset: str) -> ImagingSpec:
+    """The ``[imaging]`` keys of a weather preset (``mission_plan.weather_presets``, issue 15's numbers)."""
+    prefix = "imaging."
+    return imaging_spec({k[len(prefix):]: v for k, v in PRESETS[preset].items() if k.startswith(prefix)})
+
+
+MODERATE = _preset_imaging("moderate")
+ROUGH = _preset_imaging("rough")
+
 
 CONDITIONS: dict[str, tuple[ImagingSpec, float]] = {
     "clean": (ImagingSpec(), 0.0),
