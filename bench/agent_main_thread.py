@@ -43,7 +43,7 @@ def capture(vehicle_id: int, duration_s: float) -> dict[str, object]:
     ticks: list[dict[str, object]] = []
     onboard_step, last_perception = engine.onboard_step, [None]
 
-    def perception_for(flood, t_s, position_enu_m, camera, seed):  # noqa: ANN001, ANN202 - the engine's signature
+    def perception_for(flood, t_s, position_enu_m, camera, seed, *_pose_and_attitude):  # noqa: ANN001, ANN002, ANN202 - the engine's signature, level camera
         frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed)
         result = perceive(frame.image_bgr, float(position_enu_m[2]), camera.fov_deg, 0.0)
         frames[id(result)] = (frame.image_bgr.tobytes(), frame.image_bgr.shape[:2], float(position_enu_m[2]),

@@ -114,3 +114,16 @@ def body_frd_to_ned(vector_frd: ArrayLike, yaw_ned_rad: float) -> NDArray[np.flo
     v = np.asarray(vector_frd, dtype=float)
     c, s = math.cos(yaw_ned_rad), math.sin(yaw_ned_rad)
     return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1], v[..., 2]], axis=-1)
+
+
+def body_to_ned_matrix(roll_rad: float, pitch_rad: float, yaw_ned_rad: float) -> NDArray[np.float64]:
+    """3x3 rotation taking a body (forward, right, down) vector into NED: PX4's Euler angles, yaw-pitch-roll (Z-Y-X)
+    order, as ATTITUDE reports them."""
+    cr, sr = math.cos(roll_rad), math.sin(roll_rad)
+    cp, sp = math.cos(pitch_rad), math.sin(pitch_rad)
+    cy, sy = math.cos(yaw_ned_rad), math.sin(yaw_ned_rad)
+    return np.array([
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ])

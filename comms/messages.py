@@ -198,7 +198,8 @@ class GroundTruth(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
     """Every vehicle's TRUE state at simulation time ``t_s`` (from the simulator; feeds the radio and metrics).
 
     Parallel lists, one entry per vehicle: ids, positions mission ENU [m], velocities ENU [m/s], yaw NED [rad],
-    and whether the vehicle exists (a crashed/removed vehicle has ``alive`` False and is out of radio range).
+    whether the vehicle exists (a crashed/removed vehicle has ``alive`` False and is out of radio range), and the
+    body's (roll, pitch) [rad] (the body-fixed camera looks through it; empty: level).
     """
 
     t_s: float
@@ -207,12 +208,13 @@ class GroundTruth(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
     velocities_enu_mps: list[Point3] = []
     yaw_ned_rad: list[float] = []
     alive: list[bool] = []
+    tilt_rad: list[tuple[float, float]] = []
 
     def __post_init__(self) -> None:
         n = len(self.vehicle_ids)
         if len(self.positions_enu_m) != n:
             raise InvalidMessage("positions length mismatch")
-        for extra in (self.velocities_enu_mps, self.yaw_ned_rad, self.alive):
+        for extra in (self.velocities_enu_mps, self.yaw_ned_rad, self.alive, self.tilt_rad):
             if extra and len(extra) != n:
                 raise InvalidMessage("truth list length mismatch")
         if not math.isfinite(self.t_s):

@@ -25,6 +25,7 @@ from mission_plan.fleet import VehicleSpec
 from mission_plan.home import GeodeticHome
 from mission_plan.jitter import start_delays_s
 from mission_plan.roles import ROLES
+from mission_plan.imaging import ImagingSpec, mean_wind_en_mps
 from mission_plan.scenario_schema import CameraSpec, Scenario
 from mission_plan.table_fields import ScenarioError
 from mission_plan.weather import SensorSpec, WindSpec
@@ -106,6 +107,9 @@ class CamerasPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_f
     world: WorldPlan
     camera: CameraSpec
     roles: dict[int, str]
+    imaging: ImagingSpec = ImagingSpec()
+    wind_en_mps: tuple[float, float] = (0.0, 0.0)
+    """Mean wind [m/s; east, north] the cloud shadows drift with (calm when the scenario has no ``[wind]``)."""
 
     def __post_init__(self) -> None:
         bad = sorted(role for role in self.roles.values() if role not in ROLES)
@@ -152,5 +156,7 @@ def cameras_plan(scenario: Scenario, mission: str | None = None) -> CamerasPlan:
     """The camera renderer's plan."""
     return CamerasPlan(
         mission=mission or scenario.name, scenario=scenario.name, world=world_plan(scenario), camera=scenario.camera,
-        roles={v.vehicle_id: v.role for v in scenario.vehicles},
+        roles={v.vehicle_id: v.role for v in scenario.vehicles}, imaging=scenario.imaging,
+        wind_en_mps=mean_wind_en_mps(scenario),
     )
+

@@ -1,11 +1,12 @@
 """A whole mission setup as one frozen :class:`Scenario`, validated from its parsed TOML table.
 
 A scenario says where the mission is (``[home]``), what floods (``[flood]``, validated by the world's
-``flood_model_from_config``), who flies (``[fleet]``, :mod:`mission_plan.fleet`), the camera (``[camera]``), the
-radio (``[radio]``), the vehicle limits (``[kinematics]``), the control parameters (``[control]``, with
-``[control.paper]``/``[control.improved]``, :mod:`mission_plan.control_params`) and the weather (``weather`` preset,
-``[wind]``, ``[sensors]``, :mod:`mission_plan.weather`; the preset's defaults are filled in first, under the user's
-own keys, :mod:`mission_plan.weather_presets`). Any error raises
+``flood_model_from_config``), who flies (``[fleet]``, :mod:`mission_plan.fleet`), the camera (``[camera]``) and
+its imaging conditions (``[imaging]``, :mod:`mission_plan.imaging`), the radio (``[radio]``), the vehicle limits
+(``[kinematics]``), the control parameters (``[control]``, with ``[control.paper]``/``[control.improved]``,
+:mod:`mission_plan.control_params`) and the weather (``weather`` preset, ``[wind]``, ``[sensors]``,
+:mod:`mission_plan.weather`; the preset's defaults are filled in first, under the user's own keys,
+:mod:`mission_plan.weather_presets`). Any error raises
 :class:`~mission_plan.table_fields.ScenarioError` whose one-line message names the field; an unknown key in any
 table but ``[flood]`` names the closest known key here (the flood's own keys are checked with the flood model).
 """
@@ -21,6 +22,7 @@ from mission_plan.control_params import MODES, ControlParams, ControlParamsError
 from mission_plan.dynamics import KinematicLimits
 from mission_plan.fleet import AUTO_LAUNCH, VehicleSpec, build_fleet, check_fleet_keys
 from mission_plan.home import GeodeticHome
+from mission_plan.imaging import ImagingSpec, imaging_spec
 from mission_plan.roster import RosterEntry
 from mission_plan.scenarios import SCENARIO_DIR
 from mission_plan.table_fields import ScenarioError, integer, number, reject_unknown, sub_table
@@ -96,6 +98,7 @@ class Scenario:
     sensors: SensorSpec = field(default_factory=SensorSpec)
     start_jitter_s: float = 0.0
     """Each agent starts its mission up to this long after the flood clock (drawn from the seed by the engine)."""
+    imaging: ImagingSpec = field(default=ImagingSpec())
 
     def roster(self) -> tuple[RosterEntry, ...]:
         """Every vehicle as the others know it."""
@@ -113,7 +116,7 @@ class Scenario:
 
 TOP_KEYS = frozenset({"name", "description", "seed", "duration_s", "altitude_m", "control_rate_hz",
                       "polygon_period_s", "home", "flood", "fleet", "camera", "radio", "kinematics", "control",
-                      WEATHER_KEY, "wind", "sensors"})
+                      WEATHER_KEY, "wind", "sensors", "imaging"})
 _HOME_KEYS = frozenset(f.name for f in fields(GeodeticHome))
 _CAMERA_KEYS = frozenset(f.name for f in fields(CameraSpec))
 _RADIO_KEYS = frozenset(f.name for f in fields(RadioSpec))
@@ -221,6 +224,7 @@ def scenario_from_table(raw: Mapping[str, Any], default_name: str = "scenario", 
         wind=wind_spec(sub_table(raw, "wind")),
         sensors=sensor_spec(sub_table(raw, "sensors")),
         start_jitter_s=number(fleet, "start_jitter_s", 0.0, "fleet", non_negative=True),
+        imaging=imaging_spec(sub_table(raw, "imaging")),
     )
     for mode in MODES:
         scenario.control_params(mode)

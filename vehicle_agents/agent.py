@@ -297,9 +297,10 @@ class Agent:
         if image is None:
             self._perception = PerceptionResult.no_measurement()
             return
-        # Edge points go to the ground with the heading the autopilot reports (ATTITUDE), not the simulator's: a
+        # Edge points go to the ground with the attitude the autopilot reports (ATTITUDE), not the simulator's: a
         # camera without a gimbal knows only its vehicle's estimate. Metres per pixel come from the downward
         # rangefinder's reading (DISTANCE_SENSOR), which over relief is not the altitude above home.
-        self._perception = perceive(image, perception_height_m(self.link.telemetry, frame), frame.fov_deg,
-                                    self.link.telemetry.yaw_ned_rad)
+        attitude = self.link.telemetry
+        self._perception = perceive(image, perception_height_m(attitude, frame), frame.fov_deg, attitude.yaw_ned_rad,
+                                    roll_rad=attitude.roll_rad, pitch_rad=attitude.pitch_rad)
         self.stats.frames_processed += 1

@@ -18,6 +18,9 @@ class AutopilotTelemetry:
     position_ned_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     velocity_ned_mps: tuple[float, float, float] = (0.0, 0.0, 0.0)
     yaw_ned_rad: float = 0.0
+    roll_rad: float = 0.0
+    pitch_rad: float = 0.0
+    """Body roll and pitch (ATTITUDE): perception projects the body-fixed camera's pixels through them."""
     armed: bool = False
     in_air: bool = False
     flight_mode: str = "UNKNOWN"

@@ -74,7 +74,8 @@ class _TelemetryFields:
         default = AutopilotTelemetry()
         self.position_velocity_ned: tuple[tuple[float, float, float], tuple[float, float, float]] = (
             default.position_ned_m, default.velocity_ned_mps)
-        self.yaw_ned_rad = default.yaw_ned_rad
+        self.attitude_rad = (default.roll_rad, default.pitch_rad, default.yaw_ned_rad)
+        """(roll, pitch, yaw) of one ATTITUDE, stored together so a reader never mixes two messages."""
         self.armed = default.armed
         self.in_air = default.in_air
         self.flight_mode = default.flight_mode
@@ -87,9 +88,11 @@ class _TelemetryFields:
 
     def snapshot(self) -> AutopilotTelemetry:
         position, velocity = self.position_velocity_ned
+        roll, pitch, yaw = self.attitude_rad
         has_global, latitude, longitude = self.global_position
         return AutopilotTelemetry(
-            position_ned_m=position, velocity_ned_mps=velocity, yaw_ned_rad=self.yaw_ned_rad, armed=self.armed,
+            position_ned_m=position, velocity_ned_mps=velocity, yaw_ned_rad=yaw, roll_rad=roll, pitch_rad=pitch,
+            armed=self.armed,
             in_air=self.in_air, flight_mode=self.flight_mode, battery_fraction=self.battery_fraction,
             ready_to_arm=self.ready_to_arm, has_global_position=has_global, latitude_deg=latitude,
             longitude_deg=longitude, height_above_ground_m=self.height_above_ground_m,
@@ -172,7 +175,7 @@ class MavsdkAutopilotLink:
             fields.global_position = (ok, pos.latitude_deg, pos.longitude_deg)
 
         def attitude(e: Any) -> None:
-            fields.yaw_ned_rad = math.radians(e.yaw_deg)
+            fields.attitude_rad = (math.radians(e.roll_deg), math.radians(e.pitch_deg), math.radians(e.yaw_deg))
 
         def armed(a: Any) -> None:
             fields.armed = bool(a)

@@ -91,7 +91,7 @@ class PymavlinkAutopilotLink:
             elif kind == "LOCAL_POSITION_NED":
                 self._update(position_ned_m=(msg.x, msg.y, msg.z), velocity_ned_mps=(msg.vx, msg.vy, msg.vz))
             elif kind == "ATTITUDE":
-                self._update(yaw_ned_rad=float(msg.yaw))
+                self._update(yaw_ned_rad=float(msg.yaw), roll_rad=float(msg.roll), pitch_rad=float(msg.pitch))
             elif kind == "EXTENDED_SYS_STATE":
                 self._update(in_air=msg.landed_state in _AIRBORNE)
             elif kind == "SYS_STATUS":

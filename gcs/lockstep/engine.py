@@ -41,7 +41,9 @@ from mission_plan.jitter import start_delays_s
 from mission_plan.roles import Role
 from mock_autopilot.backends.interface import MAVSDK_MODE_NAMES, BackendState, VehicleRequest
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
+from mission_plan.imaging import ImagingSpec, mean_wind_en_mps
+from mock_autopilot.camera.body_tilt import tilt_from_acceleration_rad
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, CameraPose, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
@@ -118,15 +120,21 @@ def telemetry_of(state: BackendState, pads_enu_m: NDArray[np.float64], gps: NDAr
 
 def _perception_for(
     flood: FloodModel, t_s: float, position_enu_m: NDArray[np.float64], camera: CameraModel, seed: int,
-    heading_error_rad: float = 0.0,
+    pose: CameraPose, imaging: ImagingSpec, yaw_ned_rad: float, reported_yaw_ned_rad: float,
 ) -> PerceptionResult:
-    """Render and perceive one frame; perception scales by the downward rangefinder's height above ground, as the
-    agent does with PX4's DISTANCE_SENSOR (equal to the altitude over flat ground), and turns the edge points with
-    the heading the autopilot reports: the frame is rendered heading north (the ground does not care which way the
-    drone faces), so perception is off by the autopilot's heading error, as an agent's is."""
-    frame = render_frame(flood, t_s, position_enu_m, 0.0, camera, seed)
+    """Render and perceive one frame from the body's true attitude, under the scenario's imaging conditions;
+    perception scales by the downward rangefinder's height above ground, as the agent does with PX4's
+    DISTANCE_SENSOR (equal to the altitude over flat ground), and projects with the attitude the autopilot reports
+    (its heading estimate; roll and pitch are reported as they are). A level camera's frame is rendered heading
+    north, which the ground does not tell apart, with perception off by the autopilot's heading error as an agent's
+    is; a tilted one at its true heading, since the tilt is about the body's axes."""
+    roll, pitch = pose.tilt_rad
+    level = roll == 0.0 and pitch == 0.0
+    render_yaw = 0.0 if level else yaw_ned_rad
+    frame = render_frame(flood, t_s, position_enu_m, render_yaw, camera, seed, pose=pose, imaging=imaging)
     height_m = max(height_above_ground_m(flood, position_enu_m), MIN_ALTITUDE_M)
-    return perceive(frame.image_bgr, height_m, camera.fov_deg, heading_error_rad)
+    perceive_yaw = reported_yaw_ned_rad - yaw_ned_rad + render_yaw
+    return perceive(frame.image_bgr, height_m, camera.fov_deg, perceive_yaw, roll_rad=roll, pitch_rad=pitch)
 
 
 def run_lockstep(
@@ -195,6 +203,8 @@ def run_lockstep(
     next_frame_t = 0.0
     perceptions: list[PerceptionResult | None] = [None] * n
     frames = 0
+    wind = mean_wind_en_mps(scenario)
+    previous_velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
     wall_start = time.perf_counter()
     cpu_start = time.process_time()
 
@@ -206,12 +216,19 @@ def run_lockstep(
         if ground is not None:
             ground.hear(inboxes[n].states, t_s)
             inboxes = inboxes[:n]
+        velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
+        tilts = (np.stack(state.tilt_rad, axis=-1) if state.roll_rad is not None
+                 else tilt_from_acceleration_rad((velocity_ned - previous_velocity_ned) / dt_s, state.yaw_ned_rad))
+        previous_velocity_ned = velocity_ned
         if slot_reached(next_frame_t, t_s):
             next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
             for i, vehicle in enumerate(vehicles):
                 if state.alive[i] and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
-                    heading_error = float(state.reported_yaw_ned_rad[i] - state.yaw_ned_rad[i])
-                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, heading_error)
+                    pose = CameraPose(tilt_rad=(float(tilts[i, 0]), float(tilts[i, 1])), vehicle_id=ids[i],
+                                      velocity_en_mps=(float(velocity_ned[i, 1]), float(velocity_ned[i, 0])),
+                                      wind_en_mps=wind)
+                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging,
+                                                     float(state.yaw_ned_rad[i]), float(state.reported_yaw_ned_rad[i]))
                     frames += 1
         orders = tuple(started if t_s >= delay - 1e-9 else waiting for delay in delays_s)
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, pads, gps, scenario),

@@ -19,6 +19,7 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from comms.camera_projection import pixel_to_ground, project_pixels
 from comms.frames import yaw_ned_to_enu_rad
 from mock_autopilot.camera.appearance import (
     NOISE_FRAMES,
@@ -32,9 +33,11 @@ from mock_autopilot.camera.appearance import (
     streak_tile,
     water_shading,
 )
+from mock_autopilot.camera.imaging_conditions import FrameInputs, apply_imaging
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
+from mission_plan.imaging import ImagingSpec
 
 MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
@@ -42,6 +45,8 @@ MARGIN_PX = 8
 """Extra ring of pixels evaluated around the image so the wet band near the image border sees off-image water."""
 DEPTH_LUT_STEP_M = 0.005
 """Depth resolution of the water shading table [m] (256 steps: to 1.275 m, deeper water shades as that)."""
+_PIXEL_CENTRES = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.5], [0.0, 0.0, 1.0]])
+"""Pixel index (column, row) -> continuous image coordinates of its centre."""
 _WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
 """How much fully wet soil loses of each colour channel (B, G, R)."""
 
@@ -75,10 +80,22 @@ def _pixel_grid(width_px: int, height_px: int, margin_px: int) -> tuple[NDArray[
 
 
 def ground_points_en_m(
-    camera: CameraModel, position_enu_m: ArrayLike, yaw_ned_rad: float, margin_px: int = 0
+    camera: CameraModel, position_enu_m: ArrayLike, yaw_ned_rad: float, margin_px: int = 0,
+    tilt_rad: tuple[float, float] = (0.0, 0.0),
 ) -> NDArray[np.float64]:
-    """(H+2m, W+2m, 2) ground (east, north) [m] under each pixel centre of the camera at ``position_enu_m``."""
+    """(H+2m, W+2m, 2) ground (east, north) [m] under each pixel centre of the camera at ``position_enu_m``.
+
+    ``tilt_rad`` is the body's (roll, pitch) [rad]: the camera is fixed to the body, so a tilted drone looks off
+    nadir (:mod:`mock_autopilot.camera.tilt`); level, the projection is the nadir map of SPEC §3.
+    """
     east, north, up = (float(v) for v in np.asarray(position_enu_m, dtype=float)[:3])
+    if tilt_rad != (0.0, 0.0):
+        to_ground = _tilted_homography(camera, up, yaw_ned_rad, tilt_rad)
+        if to_ground is None:
+            raise ValueError("camera sees the horizon: no ground projection")
+        right, forward = _pixel_grid(camera.width_px, camera.height_px, margin_px)
+        return project_pixels(to_ground, right + camera.width_px / 2.0, camera.height_px / 2.0 - forward) + np.array(
+            [east, north])
     gsd = camera.ground_sample_m(max(up, MIN_ALTITUDE_M))
     heading = yaw_ned_to_enu_rad(yaw_ned_rad)
     fwd_e, fwd_n = math.cos(heading), math.sin(heading)
@@ -93,11 +110,33 @@ def ground_points_en_m(
     return points
 
 
+def _tilted_homography(camera: CameraModel, height_m: float, yaw_ned_rad: float,
+                       tilt_rad: tuple[float, float]) -> NDArray[np.float64] | None:
+    """Image (x, y) -> ground offset (east, north) homography of the body-fixed camera (None: sees the horizon)."""
+    return pixel_to_ground(camera.width_px, camera.height_px, camera.fov_deg, max(height_m, MIN_ALTITUDE_M),
+                           tilt_rad[0], tilt_rad[1], yaw_ned_rad)
+
+
 def _blank(camera: CameraModel) -> RenderedFrame:
     return RenderedFrame(
         image_bgr=np.zeros((camera.height_px, camera.width_px, 3), np.uint8),
         water_mask=np.zeros((camera.height_px, camera.width_px), bool),
     )
+
+
+@dataclass(frozen=True)
+class CameraPose:
+    """How the camera hangs and moves beyond its position and yaw: the body's true (roll, pitch) [rad] (no gimbal),
+    and, for motion blur and the imaging conditions' seeding, the vehicle's id and true ground velocity [m/s; east,
+    north], with the mean wind [m/s; east, north] the cloud shadows drift with."""
+
+    tilt_rad: tuple[float, float] = (0.0, 0.0)
+    vehicle_id: int = 0
+    velocity_en_mps: tuple[float, float] = (0.0, 0.0)
+    wind_en_mps: tuple[float, float] = (0.0, 0.0)
+
+
+LEVEL = CameraPose()
 
 
 def render_frame(
@@ -107,28 +146,45 @@ def render_frame(
     yaw_ned_rad: float,
     camera: CameraModel = CameraModel(),
     seed: int = 0,
+    pose: CameraPose = LEVEL,
+    imaging: ImagingSpec = ImagingSpec(),
 ) -> RenderedFrame:
     """The image the downward camera of a drone at ``position_enu_m`` (east, north, up [m]) sees at flood time ``t_s``.
 
-    ``yaw_ned_rad`` is the PX4 yaw (clockwise from north). A non-finite pose gives an all-black frame with an
-    all-land mask (a failed camera, which perception reports as no measurement); a height below
-    ``MIN_ALTITUDE_M`` is rendered from that height. Deterministic for given arguments.
+    ``yaw_ned_rad`` is the PX4 yaw (clockwise from north); ``pose`` the body's tilt (the camera is fixed to it) and
+    what the imaging conditions need; ``imaging`` the conditions applied on top of the scene
+    (:mod:`mock_autopilot.camera.imaging_conditions`; clean by default). A non-finite pose, or a tilt at which the
+    camera sees the horizon, gives an all-black frame with an all-land mask (a failed camera, which perception
+    reports as no measurement); a height below ``MIN_ALTITUDE_M`` is rendered from that height. Deterministic for
+    given arguments.
     """
     pos = np.asarray(position_enu_m, dtype=float).reshape(-1)
-    if pos.size < 3 or not (np.all(np.isfinite(pos[:3])) and math.isfinite(yaw_ned_rad) and math.isfinite(t_s)):
+    tilt = (float(pose.tilt_rad[0]), float(pose.tilt_rad[1]))
+    if pos.size < 3 or not (np.all(np.isfinite(pos[:3])) and math.isfinite(yaw_ned_rad) and math.isfinite(t_s)
+                            and math.isfinite(tilt[0]) and math.isfinite(tilt[1])):
         return _blank(camera)
     altitude_m = max(height_above_ground_m(flood, pos[:3]), MIN_ALTITUDE_M)
     gsd = camera.ground_sample_m(altitude_m)
     m = MARGIN_PX
     h, w = camera.height_px, camera.width_px
+    level = tilt == (0.0, 0.0)
+    if level:
+        to_tile = _texture_transform(camera, (float(pos[0]), float(pos[1])), gsd, yaw_ned_rad)
+    else:
+        to_ground = _tilted_homography(camera, altitude_m, yaw_ned_rad, tilt)
+        if to_ground is None:
+            return _blank(camera)
+        to_tile = _tile_from_ground(float(pos[0]), float(pos[1])) @ to_ground @ _PIXEL_CENTRES
 
-    points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m)
-    depth = flood.depth_on_affine_grid_m(points, t_s) if _knows_depth(type(flood)) else None  # type: ignore[attr-defined]
+    points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m, tilt_rad=tilt)
+    depth = None
+    if _knows_depth(type(flood)):  # a tilted footprint is not an affine grid: per-point depth
+        depth_of = flood.depth_on_affine_grid_m if level else flood.depth_m  # type: ignore[attr-defined]
+        depth = depth_of(points, t_s)
     water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)  # type: ignore[attr-defined]
     water = water_padded[m : m + h, m : m + w]
 
     textures = ground_textures(seed)
-    to_tile = _texture_transform(camera, (float(pos[0]), float(pos[1])), gsd, yaw_ned_rad)
     land = _sample_tile(textures.land_bgrw, to_tile, w, h)
     effects = sensor_effects(seed, w, h)
     colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
@@ -145,15 +201,19 @@ def render_frame(
         if depth is not None:
             flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
             streaks = _streaks(flow, points[m : m + h, m : m + w], seed)
-            water_colour = _shade_by_depth(water_colour, depth[m : m + h, m : m + w], streaks)
+            water_colour = _shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]), streaks)
         colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
 
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
     gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
     shaded = cv2.multiply(colour, gain, dtype=cv2.CV_8U)
     image = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
+    if not imaging.is_clean:
+        image = apply_imaging(image, water, imaging, FrameInputs(
+            seed=seed, vehicle_id=pose.vehicle_id, t_s=t_s, ground_points_en_m=points[m : m + h, m : m + w],
+            height_m=altitude_m, ground_sample_m=gsd, position_en_m=(float(pos[0]), float(pos[1])),
+            velocity_en_mps=pose.velocity_en_mps, wind_en_mps=pose.wind_en_mps))
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
-
 
 
 def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], seed: int) -> NDArray[np.float32]:
@@ -229,11 +289,22 @@ def _texture_transform(
     )
 
 
+def _tile_from_ground(east0_m: float, north0_m: float) -> NDArray[np.float64]:
+    """3x3 map from a ground offset (east, north) [m] from the point below the drone to texture-tile pixels (the
+    tilted camera's textures are sampled through it and the camera's homography with one ``warpPerspective``)."""
+    tile_m = TILE_PX * TILE_RESOLUTION_M
+    origin_e = math.floor(east0_m / tile_m) * tile_m
+    origin_s = math.floor(-north0_m / tile_m) * tile_m
+    k = 1.0 / TILE_RESOLUTION_M
+    return np.array([[k, 0.0, (east0_m - origin_e) * k], [0.0, -k, (-north0_m - origin_s) * k], [0.0, 0.0, 1.0]])
+
+
 def _sample_tile(tile: NDArray[np.uint8], to_tile: NDArray[np.float64], width_px: int, height_px: int) -> NDArray[np.uint8]:
-    return cv2.warpAffine(
-        tile, to_tile, (width_px, height_px), flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
-        borderMode=cv2.BORDER_WRAP,
-    )
+    """The tile seen through ``to_tile``: 2x3 affine (level camera) or 3x3 homography (tilted) from image pixel
+    (x, y) to tile pixel."""
+    warp = cv2.warpAffine if to_tile.shape[0] == 2 else cv2.warpPerspective
+    return warp(tile, to_tile, (width_px, height_px), flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
+                borderMode=cv2.BORDER_WRAP)
 
 
 def _noise_index(t_s: float, position_enu_m: NDArray[np.float64], seed: int) -> int:

@@ -46,16 +46,20 @@ class TruthReference:
         return 0.5 * (self.water_centroid_en_m + self.land_centroid_en_m)
 
 
-def pixel_offsets_en_m(camera: CameraModel, position_enu_m: Sequence[float], yaw_ned_rad: float) -> NDArray[np.float64]:
+def pixel_offsets_en_m(camera: CameraModel, position_enu_m: Sequence[float], yaw_ned_rad: float,
+                       tilt_rad: tuple[float, float] = (0.0, 0.0)) -> NDArray[np.float64]:
     """Each pixel centre's ground point as an offset from the point below the drone, (H, W, 2)."""
-    return ground_points_en_m(camera, position_enu_m, yaw_ned_rad) - np.asarray(position_enu_m[:2], dtype=float)
+    return (ground_points_en_m(camera, position_enu_m, yaw_ned_rad, tilt_rad=tilt_rad)
+            - np.asarray(position_enu_m[:2], dtype=float))
 
 
 def truth_reference(
-    camera: CameraModel, position_enu_m: Sequence[float], yaw_ned_rad: float, water_mask: NDArray[np.bool_]
+    camera: CameraModel, position_enu_m: Sequence[float], yaw_ned_rad: float, water_mask: NDArray[np.bool_],
+    tilt_rad: tuple[float, float] = (0.0, 0.0),
 ) -> TruthReference:
-    """The reference for a frame whose truth mask holds both water and land."""
-    offsets = pixel_offsets_en_m(camera, position_enu_m, yaw_ned_rad)
+    """The reference for a frame whose truth mask holds both water and land (camera tilted by ``tilt_rad``, the
+    body's (roll, pitch)): centroids are means of the pixel centres' ground points, as perception measures them."""
+    offsets = pixel_offsets_en_m(camera, position_enu_m, yaw_ned_rad, tilt_rad)
     h_pairs = water_mask[:, :-1] != water_mask[:, 1:]
     v_pairs = water_mask[:-1, :] != water_mask[1:, :]
     shore = np.concatenate([0.5 * (offsets[:, :-1][h_pairs] + offsets[:, 1:][h_pairs]),

@@ -63,10 +63,11 @@ def load_fleet_plan(plan_path: Path | None, scenario: str | None, overrides: Seq
     return plan_or_scenario(plan_path, scenario, overrides, FleetPlan, fleet_plan)
 
 
-def vehicle_truths(truth: FleetTruth) -> list[VehicleTruth]:
+def vehicle_truths(truth: FleetTruth, fleet: Fleet) -> list[VehicleTruth]:
+    """Each vehicle's truth with the body's (roll, pitch) its ATTITUDE reports (the camera is fixed to the body)."""
     return [
         VehicleTruth(int(truth.system_ids[i]), truth.position_enu_m[i], truth.velocity_enu_mps[i],
-                     float(truth.yaw_ned_rad[i]), bool(truth.alive[i]))
+                     float(truth.yaw_ned_rad[i]), bool(truth.alive[i]), fleet.vehicles[i].tilt_rad())
         for i in range(len(truth.system_ids))
     ]
 
@@ -177,7 +178,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             def publish_truth(t_s: float) -> None:
                 truth = fleet.truth()
                 set_ground_below(fleet, truth, flood)
-                bridge.publish_truth(t_s, vehicle_truths(truth))
+                bridge.publish_truth(t_s, vehicle_truths(truth, fleet))
                 setpoint_ages_s.extend(setpoint_ages(fleet, truth, t_s))
 
             keeper = PaceKeeper(session, mission, pacer, fleet.clock.now_s, lambda: fleet.last_tick_t_s,
@@ -192,7 +193,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 now_s = fleet.clock.now_s()
                 truth = fleet.truth()
                 set_ground_below(fleet, truth, flood)
-                bridge.tick(now_s, vehicle_truths(truth))
+                bridge.tick(now_s, vehicle_truths(truth, fleet))
                 setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
                 wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
                 stop.wait(min(wait_s, 0.05))

@@ -27,7 +27,8 @@ from comms.signing import unsigned_body
 from comms.zenoh_session import ZenohSession
 from mission_plan.roles import Role
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import MIN_ALTITUDE_M, render_frame
+from mission_plan.imaging import ImagingSpec
+from mock_autopilot.camera.render import MIN_ALTITUDE_M, CameraPose, render_frame
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
@@ -46,6 +47,8 @@ class VehicleTruth:
     velocity_enu_mps: NDArray[np.float64]
     yaw_ned_rad: float
     alive: bool = True
+    tilt_rad: tuple[float, float] = (0.0, 0.0)
+    """Body (roll, pitch) [rad]: the camera is fixed to the body."""
 
 
 def ground_truth_message(t_s: float, vehicles: Sequence[VehicleTruth]) -> GroundTruth:
@@ -56,14 +59,21 @@ def ground_truth_message(t_s: float, vehicles: Sequence[VehicleTruth]) -> Ground
         velocities_enu_mps=[tuple(float(c) for c in v.velocity_enu_mps) for v in vehicles],  # type: ignore[misc]
         yaw_ned_rad=[float(v.yaw_ned_rad) for v in vehicles],
         alive=[bool(v.alive) for v in vehicles],
+        tilt_rad=[(float(v.tilt_rad[0]), float(v.tilt_rad[1])) for v in vehicles],
     )
 
 
 def camera_frame_message(
-    vehicle: VehicleTruth, seq: int, t_s: float, flood: FloodModel, flood_t_s: float, camera: CameraModel, seed: int
+    vehicle: VehicleTruth, seq: int, t_s: float, flood: FloodModel, flood_t_s: float, camera: CameraModel, seed: int,
+    imaging: ImagingSpec = ImagingSpec(), wind_en_mps: tuple[float, float] = (0.0, 0.0),
 ) -> CameraFrame:
-    """Render one vehicle's downward view at flood time ``flood_t_s`` and wrap it as raw BGR (no codec cost)."""
-    frame = render_frame(flood, flood_t_s, vehicle.position_enu_m, vehicle.yaw_ned_rad, camera, seed)
+    """Render one vehicle's downward view at flood time ``flood_t_s`` from its true attitude, under the imaging
+    conditions, and wrap it as raw BGR (no codec cost)."""
+    pose = CameraPose(tilt_rad=vehicle.tilt_rad, vehicle_id=vehicle.vehicle_id,
+                      velocity_en_mps=(float(vehicle.velocity_enu_mps[0]), float(vehicle.velocity_enu_mps[1])),
+                      wind_en_mps=wind_en_mps)
+    frame = render_frame(flood, flood_t_s, vehicle.position_enu_m, vehicle.yaw_ned_rad, camera, seed, pose=pose,
+                         imaging=imaging)
     image = np.ascontiguousarray(frame.image_bgr, dtype=np.uint8)
     return CameraFrame(
         vehicle_id=vehicle.vehicle_id,
@@ -113,6 +123,8 @@ class CameraStreamer:
         camera_period_s: float,
         camera_vehicle_ids: set[int] | None = None,
         on_flood_start: Callable[[float], None] | None = None,
+        imaging: ImagingSpec = ImagingSpec(),
+        wind_en_mps: tuple[float, float] = (0.0, 0.0),
     ) -> None:
         self.session = session
         self.keys = MissionKeys(mission)
@@ -121,6 +133,8 @@ class CameraStreamer:
         self.seed = seed
         self.camera_period_s = camera_period_s
         self.camera_vehicle_ids = camera_vehicle_ids
+        self.imaging = imaging
+        self.wind_en_mps = wind_en_mps
         self.flood_clock_start_s: float | None = None
         self._on_flood_start = on_flood_start
         self._commands = session.subscribe(self.keys.command)
@@ -168,7 +182,8 @@ class CameraStreamer:
             seq = self._frame_seq.get(vehicle.vehicle_id, 0) + 1
             self._frame_seq[vehicle.vehicle_id] = seq
             started, cpu_started = time.perf_counter(), time.thread_time()
-            msg = camera_frame_message(vehicle, seq, now_s, self.flood, flood_t_s, self.camera, self.seed)
+            msg = camera_frame_message(vehicle, seq, now_s, self.flood, flood_t_s, self.camera, self.seed,
+                                       self.imaging, self.wind_en_mps)
             self.render_cpu_s += time.thread_time() - cpu_started
             rendered = time.perf_counter()
             self.session.put(self.keys.camera(vehicle.vehicle_id), encode(msg))
@@ -228,8 +243,9 @@ def vehicles_from_truth(truth: GroundTruth) -> list[VehicleTruth]:
     velocities = truth.velocities_enu_mps or [(0.0, 0.0, 0.0)] * n
     yaws = truth.yaw_ned_rad or [0.0] * n
     alive = truth.alive or [True] * n
+    tilts = truth.tilt_rad or [(0.0, 0.0)] * n
     return [
         VehicleTruth(vid, np.asarray(truth.positions_enu_m[i], dtype=float), np.asarray(velocities[i], dtype=float),
-                     float(yaws[i]), bool(alive[i]))
+                     float(yaws[i]), bool(alive[i]), (float(tilts[i][0]), float(tilts[i][1])))
         for i, vid in enumerate(truth.vehicle_ids)
     ]

@@ -89,7 +89,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         session.declare_alive(keys.alive("cameras"))
         streamer = CameraStreamer(session, mission, flood, camera, plan.world.seed, 1.0 / camera_hz,
                                   camera_users(plan.roles, args.cameras),
-                                  on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
+                                  on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t),
+                                  imaging=plan.imaging, wind_en_mps=plan.wind_en_mps)
         latest_t_s = -1.0
         next_stats_wall_s = time.monotonic() + 1.0
         while not stop.is_set():

@@ -83,7 +83,7 @@ def test_agent_takes_off_flies_its_law_and_exits_when_its_vehicle_dies(
         bridge = SimBridge(hub, mission, 0.1, CameraStreamer(hub, mission, flood, camera, scenario.seed, 0.1))
         agent = _start_agent(plan, 1, base, hub_ep, tmp_path / "agent_1.log")
         try:
-            pump = lambda: bridge.tick(fleet.clock.now_s(), vehicle_truths(fleet.truth()))  # noqa: E731
+            pump = lambda: bridge.tick(fleet.clock.now_s(), vehicle_truths(fleet.truth(), fleet))  # noqa: E731
             hovering = _wait_state(states, 1, lambda m: m.has(FLAG_OFFBOARD) and m.altitude_m > 8.0, 60.0, pump)
             assert hovering is not None, (tmp_path / "agent_1.log").read_text()[-2000:]
             start_en = np.array(hovering.position_en_m)

@@ -36,7 +36,9 @@ class PerceptionResult:
     land_centroid_px: NDArray[np.float64] | None = None
     """Land centroid in the image [px; column, row]."""
     ground_sample_m: float = float("nan")
-    """Ground distance of one pixel [m/px] at the altitude given."""
+    """Ground distance of one pixel [m/px] at the altitude given (at the image centre when tilted)."""
+    water_mask: NDArray[np.bool_] | None = None
+    """(H, W) pixels classified as water, when the frame held both classes (for overlays and scoring)."""
 
     @staticmethod
     def no_measurement(footprint_side_m: float = 0.0) -> "PerceptionResult":

@@ -1,15 +1,11 @@
-"""Land/water segmentation of the downward camera image and what eq 5 and Algorithm 1 need from it (paper §III-A.1).
+"""What eq 5 and Algorithm 1 need from one downward camera frame (paper §III-A.1).
 
-The perception is never told the truth. Water mirrors the sky and is blue-grey; grass, dry grass, soil and wet
-shoreline soil are green to brown. So the pixels are projected on a blue-yellow opponent axis, the "blueness"
-``B − (G + R)/2 + 128`` (the lighting scales every channel alike, so the sign of ``B − (G + R)/2`` holds in shade
-and sun): water is above neutral grey, land below. Otsu's method splits the frame into two classes on that axis;
-the threshold is then put half-way between the two class means (Otsu leans towards the larger class when the other
-is a small corner), and a small opening and closing remove sensor-noise specks. When the two classes are not
-really different, or the split lies far from neutral (Otsu has split grass from dry grass in a frame of land),
-the frame holds one kind of ground, told by which side of neutral it lies: Algorithm 1's climb rule. Pixels
-become ground offsets with the nadir pinhole geometry of SPEC §3 (``2 h tan(fov/2) / W`` metres per pixel),
-rotated by the vehicle's yaw into east/north.
+The perception is never told the truth. ``water_mask.segment_water`` classifies the pixels (no fixed colour of
+water: see that module); a class under ``MIN_CLASS_FRACTION`` of the image is absent, and a frame of one class sets
+Algorithm 1's climb flags. The water and land centroids, their midpoint (eq 5's ``p − q``) and sub-pixel edge points
+are projected to the ground through the body-fixed camera's pinhole geometry at the height above ground and the
+attitude the autopilot reports (:mod:`comms.camera_projection`; level, SPEC §3's ``2 h tan(fov/2) / W`` metres per
+pixel rotated by the yaw), as offsets from the point below the drone along east/north.
 
 Bad input (not an image, wrong size, black, saturated, featureless, NaN altitude, bad field of view) gives
 ``PerceptionResult.no_measurement()``; nothing raises.
@@ -18,14 +14,16 @@ Bad input (not an image, wrong size, black, saturated, featureless, NaN altitude
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import Any
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.frames import yaw_ned_to_enu_rad
+from comms.camera_projection import pixel_to_ground, project_pixels
 from vehicle_agents.perception.result import PerceptionResult
+from vehicle_agents.perception.water_mask import segment_water
 
 MIN_SIDE_PX = 8
 """Smallest image side accepted [px]."""
@@ -33,13 +31,6 @@ MAX_SIDE_PX = 4096
 """Largest image side accepted [px]."""
 MIN_CLASS_FRACTION = 0.005
 """A class covering less of the image than this is treated as absent (noise, a few stray pixels)."""
-NEUTRAL_CHROMA = 128.0
-"""Blueness of grey (B = G = R): water, which mirrors the sky, lies above it; vegetation and soil below."""
-MAX_THRESHOLD_SHIFT = 16.0
-"""The adaptive threshold is used only within this distance of neutral [DN]; further away it has split one class
-(grass from dry grass, say, in a frame with little or no water), and the neutral threshold is used instead."""
-MIN_CHROMA_SEPARATION = 10.0
-"""Otsu's two classes must differ by this much in mean blueness [DN] to be two kinds of ground."""
 DARK_MEAN_DN = 12.0
 """A frame darker than this on average is a black (failed or covered) camera."""
 SATURATED_FRACTION = 0.9
@@ -49,9 +40,6 @@ FLAT_STD_DN = 1.0
 MAX_EDGE_POINTS = 64
 """At most this many edge points are returned (evenly taken along the edge)."""
 
-_OPEN_KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
-_CHROMA_ROW = np.array([[1.0, -0.5, -0.5, 128.0]], np.float32)
-"""``cv2.transform`` row giving the blueness ``B − (G + R)/2 + 128`` of a BGR pixel in one pass."""
 
 
 def perceive(
@@ -60,49 +48,23 @@ def perceive(
     fov_deg: float,
     yaw_ned_rad: float = 0.0,
     *,
+    roll_rad: float = 0.0,
+    pitch_rad: float = 0.0,
     max_edge_points: int = MAX_EDGE_POINTS,
 ) -> PerceptionResult:
     """Segment one downward frame and measure, relative to the drone, what eq 5 and Algorithm 1 use.
 
     ``image_bgr``: (H, W, 3) uint8 BGR, image up = vehicle forward. ``altitude_m``: height above the ground [m].
     ``fov_deg``: horizontal field of view across the image width. ``yaw_ned_rad``: PX4 yaw (clockwise from north),
-    used to rotate image axes into east/north. Never raises: unusable input gives ``no_measurement()``.
+    used to rotate image axes into east/north. ``roll_rad``, ``pitch_rad``: the body's attitude as the autopilot
+    reports it (ATTITUDE); the camera is fixed to the body, so pixels are projected to the ground through it
+    (:mod:`comms.camera_projection`). Never raises: unusable input gives ``no_measurement()``.
     """
     try:
-        return _perceive(image_bgr, altitude_m, fov_deg, yaw_ned_rad, max_edge_points)
+        return _perceive(image_bgr, altitude_m, fov_deg, (float(roll_rad), float(pitch_rad), float(yaw_ned_rad)),
+                         max_edge_points)
     except (ValueError, TypeError, cv2.error, FloatingPointError, OverflowError):
         return PerceptionResult.no_measurement()
-
-
-def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
-    """(water mask or None for a one-class frame, chroma image, threshold) for a valid (H, W, 3) uint8 image.
-
-    The chroma is the blueness ``B − (G + R)/2 + 128`` (uint8); water is the high side of the threshold: half-way
-    between the means of Otsu's two classes when that falls near neutral, else neutral. A one-class frame returns
-    None as mask and the neutral chroma as threshold, for deciding which class it is.
-    """
-    chroma = cv2.transform(image_bgr, _CHROMA_ROW)
-    otsu, binary = cv2.threshold(chroma, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
-    n = binary.size
-    n_high = cv2.countNonZero(binary)
-    if n_high == 0 or n_high == n:
-        return None, chroma, NEUTRAL_CHROMA
-    mean_all = cv2.mean(chroma)[0]
-    mean_high = cv2.mean(chroma, mask=binary)[0]
-    mean_low = (mean_all * n - mean_high * n_high) / (n - n_high)
-    if mean_high - mean_low < MIN_CHROMA_SEPARATION:
-        return None, chroma, NEUTRAL_CHROMA
-    # Otsu leans towards the larger class when one class is small (a corner of water): split half-way between
-    # the two class means instead, and only near neutral grey.
-    threshold = 0.5 * (mean_low + mean_high)
-    if abs(threshold - NEUTRAL_CHROMA) > MAX_THRESHOLD_SHIFT:
-        threshold = NEUTRAL_CHROMA
-    _, binary = cv2.threshold(chroma, threshold, 1, cv2.THRESH_BINARY)
-    if cv2.countNonZero(binary) in (0, n):
-        return None, chroma, NEUTRAL_CHROMA
-    binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, _OPEN_KERNEL)
-    binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, _OPEN_KERNEL)
-    return binary.view(bool), chroma, float(threshold)
 
 
 def _usable_image(image: Any) -> NDArray[np.uint8] | None:
@@ -125,22 +87,24 @@ def _unusable_exposure(image: NDArray[np.uint8]) -> bool:
 
 
 def _perceive(
-    image: Any, altitude_m: float, fov_deg: float, yaw_ned_rad: float, max_edge_points: int
+    image: Any, altitude_m: float, fov_deg: float, attitude_rad: tuple[float, float, float], max_edge_points: int
 ) -> PerceptionResult:
-    altitude_m, fov_deg, yaw_ned_rad = float(altitude_m), float(fov_deg), float(yaw_ned_rad)
+    altitude_m, fov_deg = float(altitude_m), float(fov_deg)
     if not (math.isfinite(altitude_m) and altitude_m > 0.0 and math.isfinite(fov_deg) and 0.0 < fov_deg < 170.0):
         return PerceptionResult.no_measurement()
-    image = _usable_image(image) if math.isfinite(yaw_ned_rad) else None
+    image = _usable_image(image) if all(math.isfinite(a) for a in attitude_rad) else None
     if image is None:
         return PerceptionResult.no_measurement()
     h, w = image.shape[:2]
     footprint_m = 2.0 * altitude_m * math.tan(math.radians(fov_deg) / 2.0)
-    if _unusable_exposure(image):
+    roll, pitch, yaw = attitude_rad
+    to_ground = pixel_to_ground(w, h, fov_deg, altitude_m, roll, pitch, yaw)
+    if to_ground is None or _unusable_exposure(image):
         return PerceptionResult.no_measurement(footprint_m)
     gsd = footprint_m / w
-    mask, chroma, threshold = segment_water(image)
+    mask, score, threshold = segment_water(image)
     if mask is None:
-        only_water = float(chroma.mean()) > threshold
+        only_water = float(score.mean()) > threshold
         return PerceptionResult(
             has_edge=False,
             water_fraction=1.0 if only_water else 0.0,
@@ -169,15 +133,9 @@ def _perceive(
     water_px = np.array([m["m10"] / n_water + 0.5, m["m01"] / n_water + 0.5])
     all_sum = np.array([n * w / 2.0, n * h / 2.0])
     land_px = (all_sum - water_px * n_water) / (n - n_water)
-
-    heading = yaw_ned_to_enu_rad(yaw_ned_rad)
-    fwd_e, fwd_n = math.cos(heading), math.sin(heading)
-    # Image (x right, y down) offsets from the centre [px] @ this = ground offsets [m; east, north].
-    to_en = np.array([[fwd_n, -fwd_e], [-fwd_e, -fwd_n]]) * gsd
-    centre = np.array([w / 2.0, h / 2.0])
-    water_en = (water_px - centre) @ to_en
-    land_en = (land_px - centre) @ to_en
-    edge_en = (_edge_points_px(mask, chroma, threshold) - centre) @ to_en
+    water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px)
+    edge_px = _edge_points_px(mask, score, threshold)
+    edge_en = project_pixels(to_ground, edge_px[:, 0], edge_px[:, 1]) if len(edge_px) else np.zeros((0, 2))
 
     normal = land_en - water_en
     if edge_en.shape[0] >= 2:
@@ -214,7 +172,30 @@ def _perceive(
         water_centroid_px=water_px,
         land_centroid_px=land_px,
         ground_sample_m=gsd,
+        water_mask=mask,
     )
+
+
+def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], water_px: NDArray[np.float64],
+                      land_px: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Mean ground offset [m; east, north] of the water and of the land pixels. Level, the projection is affine and
+    maps the pixel centroids exactly; tilted, each pixel centre is projected and averaged."""
+    if to_ground[2, 0] == 0.0 and to_ground[2, 1] == 0.0:
+        both = project_pixels(to_ground, np.array([water_px[0], land_px[0]]), np.array([water_px[1], land_px[1]]))
+        return both[0], both[1]
+    centres = _pixel_centres(mask.shape[1], mask.shape[0])
+    ground = cv2.perspectiveTransform(centres, to_ground).reshape(mask.shape + (2,))
+    m8 = mask.view(np.uint8)
+    water = cv2.mean(ground, mask=m8)[:2]
+    land = cv2.mean(ground, mask=cv2.bitwise_not(m8) & 1)[:2]
+    return np.array(water), np.array(land)
+
+
+@lru_cache(maxsize=8)
+def _pixel_centres(width_px: int, height_px: int) -> NDArray[np.float32]:
+    """(H·W, 1, 2) image coordinates of every pixel centre, for ``cv2.perspectiveTransform``."""
+    x, y = np.meshgrid(np.arange(width_px) + 0.5, np.arange(height_px) + 0.5)
+    return np.stack([x, y], axis=-1).reshape(-1, 1, 2).astype(np.float32)
 
 
 def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshold: float) -> NDArray[np.float64]:

@@ -1,0 +1,213 @@
+"""Perception under hard imagery: pooled water IoU and midpoint error per imaging condition and for the weather
+presets' mixes, on a seed set used while developing or on a held-out one; writes docs/PERCEPTION.md's table.
+
+    .venv/bin/python -m bench.perception_conditions [--frames 300] [--set heldout|dev] [--conditions a,b]
+                                                    [--markdown FILE]
+    .venv/bin/python -m bench.perception_conditions --timing 300      # CPU per frame, clean / tilted / presets
+
+Each condition is one ``[imaging]`` key switched on alone (at its ``rough`` value), ``tilt`` a level-less camera
+(roll and pitch drawn up to ±15°, given to perception as ATTITUDE reports it), ``moderate`` / ``rough`` the presets'
+imaging keys (issue 15) with the drones tilted too. Poses: within 6 m of the true edge of a flood drawn in turn from
+``camera.truth.ACCURACY_FLOODS`` (or ``--floods``), at 10 m, random yaw and ground velocity (up to 5 m/s, for motion
+blur); the appearance seed (textures, sun, shadows, turbidity) changes every ``frames / len(seeds)`` frames.
+Development used ``DEV`` only; ``HELD_OUT`` was never looked at while perception was being built.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from bench.camera_perception import flood_named, height_m, machine, poses
+from mission_plan.imaging import ImagingSpec, imaging_spec
+from mission_plan.weather_presets import PRESETS
+from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.camera.render import CameraPose, render_frame
+from mock_autopilot.camera.truth import ACCURACY_FLOODS, truth_reference
+from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive
+
+START = "<!-- perception-conditions-table -->"
+END = "<!-- /perception-conditions-table -->"
+DEV = {"appearance": (1, 2, 3, 4, 5, 6), "pose": 11}
+"""Seeds perception was developed on."""
+HELD_OUT = {"appearance": (101, 202, 303, 404, 505, 606, 707, 808, 909, 1010), "pose": 2027}
+"""Seeds kept out of development: the figures reported."""
+
+def _preset_imaging(preset: str) -> ImagingSpec:
+    """The ``[imaging]`` keys of a weather preset (``mission_plan.weather_presets``, issue 15's numbers)."""
+    prefix = "imaging."
+    return imaging_spec({k[len(prefix):]: v for k, v in PRESETS[preset].items() if k.startswith(prefix)})
+
+
+MODERATE = _preset_imaging("moderate")
+ROUGH = _preset_imaging("rough")
+
+
+CONDITIONS: dict[str, tuple[ImagingSpec, float]] = {
+    "clean": (ImagingSpec(), 0.0),
+    "exposure_drift": (ImagingSpec(exposure_drift=ROUGH.exposure_drift), 0.0),
+    "white_balance_drift": (ImagingSpec(white_balance_drift=ROUGH.white_balance_drift), 0.0),
+    "vignetting": (ImagingSpec(vignetting=ROUGH.vignetting), 0.0),
+    "noise_sigma": (ImagingSpec(noise_sigma=ROUGH.noise_sigma), 0.0),
+    "exposure_time_s": (ImagingSpec(exposure_time_s=0.02), 0.0),
+    "jpeg_quality": (ImagingSpec(jpeg_quality=ROUGH.jpeg_quality), 0.0),
+    "cloud_shadow_cover": (ImagingSpec(cloud_shadow_cover=ROUGH.cloud_shadow_cover), 0.0),
+    "sun_glint": (ImagingSpec(sun_glint=True), 0.0),
+    "turbid_water": (ImagingSpec(turbid_water_probability=1.0), 0.0),
+    "floating_debris": (ImagingSpec(floating_debris=True), 0.0),
+    "tilt": (ImagingSpec(), 15.0),
+    "moderate": (MODERATE, 8.0),
+    "rough": (ROUGH, 15.0),
+}
+"""Condition name -> (imaging keys, largest roll/pitch drawn [deg])."""
+
+
+@dataclass(frozen=True)
+class ConditionScore:
+    name: str
+    frames: int
+    frames_with_edge: int
+    pooled_iou: float
+    midpoint_err_m_p95: float
+    midpoint_err_m_max: float
+    flag_errors: int
+    perceive_cpu_ms_p50: float
+
+
+def score_condition(name: str, spec: ImagingSpec, max_tilt_deg: float, floods: list[str], frames: int,
+                    seeds: dict[str, Any], camera: CameraModel = CameraModel(), altitude_m: float = 10.0
+                    ) -> ConditionScore:
+    """Render ``frames`` poses under ``spec`` and score perception against the renderer's truth."""
+    rng = np.random.default_rng([seeds["pose"], 0xC0DE])
+    built = {f: flood_named(f, seed=3) for f in floods}
+    per_flood = {f: poses(built[f], frames, altitude_m, seed=seeds["pose"] + i) for i, f in enumerate(floods)}
+    appearance = seeds["appearance"]
+    inter = union = 0
+    mid: list[float] = []
+    cpu: list[float] = []
+    flag_errors = 0
+    for k in range(frames):
+        flood_name = floods[k % len(floods)]
+        flood = built[flood_name]
+        t_s, position, yaw = per_flood[flood_name][k]
+        seed = appearance[k * len(appearance) // frames]
+        speed, heading = rng.uniform(0.0, 5.0), rng.uniform(-math.pi, math.pi)
+        tilt = tuple(math.radians(float(v)) for v in rng.uniform(-max_tilt_deg, max_tilt_deg, 2))
+        pose = CameraPose(tilt_rad=tilt, vehicle_id=k % 13 + 1,  # type: ignore[arg-type]
+                          velocity_en_mps=(speed * math.cos(heading), speed * math.sin(heading)),
+                          wind_en_mps=(5.0, 0.0))
+        frame = render_frame(flood, t_s, position, yaw, camera, seed, pose=pose, imaging=spec)
+        agl = height_m(flood, position)
+        c0 = time.thread_time()
+        result = perceive(frame.image_bgr, agl, camera.fov_deg, yaw, roll_rad=tilt[0], pitch_rad=tilt[1])
+        cpu.append(time.thread_time() - c0)
+        truth = frame.water_mask
+        mask = result.water_mask if result.water_mask is not None else np.full(truth.shape, bool(result.only_water))
+        inter += int((mask & truth).sum())
+        union += int((mask | truth).sum())
+        fraction = float(truth.mean())
+        both = 2 * MIN_CLASS_FRACTION <= fraction <= 1 - 2 * MIN_CLASS_FRACTION
+        if MIN_CLASS_FRACTION / 2 < min(fraction, 1 - fraction) < 2 * MIN_CLASS_FRACTION:
+            continue
+        if both != result.has_edge or (not both and result.only_water != (fraction > 0.5)):
+            flag_errors += 1
+            continue
+        if both:
+            ref = truth_reference(camera, (position[0], position[1], agl), yaw, truth,
+                                  tilt_rad=tilt)  # type: ignore[arg-type]
+            mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - ref.midpoint_en_m)))
+    return ConditionScore(
+        name=name, frames=frames, frames_with_edge=len(mid), pooled_iou=round(inter / max(union, 1), 4),
+        midpoint_err_m_p95=round(float(np.percentile(mid, 95)), 3) if mid else math.nan,
+        midpoint_err_m_max=round(max(mid), 3) if mid else math.nan, flag_errors=flag_errors,
+        perceive_cpu_ms_p50=round(float(np.median(cpu)) * 1e3, 3))
+
+
+def time_imaging(flood_name: str, frames: int, camera: CameraModel = CameraModel()) -> list[str]:
+    """Thread CPU time p50 of render and of perceive per frame, clean, tilted, and under the presets' imaging keys
+    (one process, the same poses for every row, so the ratios hold on a loaded machine)."""
+    flood = flood_named(flood_name, seed=1)
+    plan = poses(flood, frames, 10.0, seed=5)
+    rows = []
+    for label, spec, tilt_deg in (("clean", ImagingSpec(), 0.0), ("clean, tilted 5 deg", ImagingSpec(), 5.0),
+                                  ("moderate", MODERATE, 0.0), ("rough", ROUGH, 0.0)):
+        tilt = (math.radians(tilt_deg), -math.radians(tilt_deg))
+        pose = CameraPose(tilt_rad=tilt, vehicle_id=2, velocity_en_mps=(3.0, 1.0), wind_en_mps=(5.0, 0.0))
+        render_frame(flood, plan[0][0], plan[0][1], plan[0][2], camera, 1, pose=pose, imaging=spec)
+        render_cpu, perceive_cpu = [], []
+        for t_s, position, yaw in plan:
+            a = time.thread_time()
+            frame = render_frame(flood, t_s, position, yaw, camera, 1, pose=pose, imaging=spec)
+            b = time.thread_time()
+            perceive(frame.image_bgr, height_m(flood, position), camera.fov_deg, yaw, roll_rad=tilt[0],
+                     pitch_rad=tilt[1])
+            render_cpu.append(b - a)
+            perceive_cpu.append(time.thread_time() - b)
+        r, p = float(np.median(render_cpu)) * 1e3, float(np.median(perceive_cpu)) * 1e3
+        both = float(np.median(np.add(render_cpu, perceive_cpu))) * 1e3
+        rows.append(f"| {flood_name} | {label} | {r:.2f} ms | {p:.2f} ms | {both:.2f} ms |")
+    return rows
+
+
+def markdown_table(scores: list[ConditionScore]) -> str:
+    lines = ["| condition | frames (with edge) | pooled water IoU | midpoint error p95 / max [m] | wrong flags "
+             "| perceive CPU p50 [ms] |", "|---|---|---|---|---|---|"]
+    for s in scores:
+        lines.append(f"| {s.name} | {s.frames} ({s.frames_with_edge}) | {s.pooled_iou:.4f} | "
+                     f"{s.midpoint_err_m_p95:.3f} / {s.midpoint_err_m_max:.3f} | {s.flag_errors} | "
+                     f"{s.perceive_cpu_ms_p50:.3f} |")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--frames", type=int, default=300)
+    parser.add_argument("--set", choices=("heldout", "dev"), default="heldout", dest="seed_set")
+    parser.add_argument("--conditions", default=",".join(CONDITIONS))
+    parser.add_argument("--floods", default=",".join(ACCURACY_FLOODS),
+                        help="flood models of camera.truth, or bundled scenarios (breach, river, pluvial)")
+    parser.add_argument("--timing", type=int, default=0,
+                        help="instead of accuracy: CPU time per frame over this many poses (circle and hydro)")
+    parser.add_argument("--markdown", default=None,
+                        help="put the table into this file between its table markers (docs/PERCEPTION.md)")
+    args = parser.parse_args()
+    seeds = HELD_OUT if args.seed_set == "heldout" else DEV
+    floods = [f for f in args.floods.split(",") if f]
+    print(machine())
+    if args.timing:
+        print("| flood | imaging | render CPU p50 | perceive CPU p50 | render + perceive |\n|---|---|---|---|---|")
+        for flood_name in ("circle", "hydro"):
+            print("\n".join(time_imaging(flood_name, args.timing)), flush=True)
+        print(machine())
+        return
+    scores = []
+    for name in (c for c in args.conditions.split(",") if c):
+        spec, tilt = CONDITIONS[name]
+        scores.append(score_condition(name, spec, tilt, floods, args.frames, seeds))
+        s = scores[-1]
+        print(f"{name:20} IoU {s.pooled_iou:.4f}  midpoint p95 {s.midpoint_err_m_p95:.3f} max "
+              f"{s.midpoint_err_m_max:.3f}  edge frames {s.frames_with_edge}/{s.frames}  flags wrong "
+              f"{s.flag_errors}  perceive {s.perceive_cpu_ms_p50:.3f} ms", flush=True)
+    table = markdown_table(scores)
+    if args.markdown:
+        block = (f"{START}\nGenerated by `python -m bench.perception_conditions --frames {args.frames} --set "
+                 f"{args.seed_set} --floods {','.join(floods)}` (seeds {seeds}; {machine()}; "
+                 f"{time.strftime('%Y-%m-%d', time.gmtime())}):\n\n{table}\n{END}")
+        with open(args.markdown) as fh:
+            text = fh.read()
+        if START in text and END in text:
+            text = text[:text.index(START)] + block + text[text.index(END) + len(END):]
+        else:
+            text += "\n" + block + "\n"
+        with open(args.markdown, "w") as fh:
+            fh.write(text)
+    print(table)
+
+
+if __name__ == "__main__":
+    main()

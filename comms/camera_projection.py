@@ -1,0 +1,48 @@
+"""Where a body-fixed downward camera's pixels land on flat ground: one homography, used by the simulated camera
+and by onboard perception alike (the law is the pinhole camera's, not a choice of either side).
+
+The camera looks along the body's down axis (no gimbal), image up = body forward, image right = body right, with
+square pixels and horizontal field of view ``fov`` across the image width. A pixel at continuous image coordinates
+(x right, y down; pixel centres at +0.5) is the body ray ``(k (H/2 − y), k (x − W/2), 1)`` (forward, right, down)
+with ``k = tan(fov/2) / (W/2)``; rotated into NED by the attitude (:func:`comms.frames.body_to_ned_matrix`) it meets
+the ground ``h`` below at ``h (d_e, d_n) / d_d``. Level, this is SPEC §3's nadir map (``2 h tan(fov/2) / W`` metres
+per pixel); tilted by θ the footprint's centre moves ``h tan θ`` the way the camera now points.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from comms.frames import body_to_ned_matrix
+
+MIN_RAY_DOWN = 0.17
+"""A frame whose corner rays point less steeply down than this (the cosine of 80° from vertical) sees the horizon,
+not the ground below: no ground projection is made for it."""
+
+
+def pixel_to_ground(width_px: int, height_px: int, fov_deg: float, height_m: float, roll_rad: float,
+                    pitch_rad: float, yaw_ned_rad: float) -> NDArray[np.float64] | None:
+    """3x3 homography from image (x, y, 1) to homogeneous ground offsets (east, north, 1) [m] from the point below
+    the camera, or None when part of the image sees above the ground's horizon."""
+    k = math.tan(math.radians(fov_deg) / 2.0) / (width_px / 2.0)
+    to_body = np.array([[0.0, -k, k * height_px / 2.0], [k, 0.0, -k * width_px / 2.0], [0.0, 0.0, 1.0]])
+    to_ned = body_to_ned_matrix(roll_rad, pitch_rad, yaw_ned_rad) @ to_body
+    corners = np.array([[0.0, 0.0, 1.0], [width_px, 0.0, 1.0], [0.0, height_px, 1.0], [width_px, height_px, 1.0]])
+    rays = corners @ to_ned.T
+    if float((rays[:, 2] / np.linalg.norm(rays, axis=1)).min()) < MIN_RAY_DOWN:
+        return None
+    pick_en = np.array([[0.0, height_m, 0.0], [height_m, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    return pick_en @ to_ned
+
+
+def project_pixels(homography: NDArray[np.float64], x: NDArray[np.float64], y: NDArray[np.float64]
+                   ) -> NDArray[np.float64]:
+    """(..., 2) ground offsets [m; east, north] of image points (x, y) [px] through ``homography``."""
+    g = homography
+    w = g[2, 0] * x + g[2, 1] * y + g[2, 2]
+    east = (g[0, 0] * x + g[0, 1] * y + g[0, 2]) / w
+    north = (g[1, 0] * x + g[1, 1] * y + g[1, 2]) / w
+    return np.stack([east, north], axis=-1)
