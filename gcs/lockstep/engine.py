@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,6 +137,61 @@ def _perception_for(
     return perceive(frame.image_bgr, height_m, camera.fov_deg, perceive_yaw, roll_rad=roll, pitch_rad=pitch)
 
 
+@dataclass(frozen=True)
+class _Trace:
+    """What the record keeps of every control step: time, true positions, the setpoints sent, footprints, who flies."""
+
+    t_s: NDArray[np.float64]
+    positions_enu_m: NDArray[np.float64]
+    commands_enu_mps: NDArray[np.float64]
+    footprint_side_m: NDArray[np.float64]
+    alive: NDArray[np.bool_]
+
+    @classmethod
+    def empty(cls, steps: int, vehicles: int) -> _Trace:
+        return cls(np.zeros(steps), np.zeros((steps, vehicles, 3)), np.zeros((steps, vehicles, 3)),
+                   np.zeros((steps, vehicles)), np.ones((steps, vehicles), dtype=bool))
+
+    def add(self, k: int, t_s: float, positions_enu_m: NDArray[np.float64], setpoints_ned_mps: NDArray[np.float64],
+            sent: NDArray[np.bool_], alive: NDArray[np.bool_], camera: CameraModel) -> None:
+        """Step ``k``: a setpoint not sent (the drone is not in OFFBOARD flight) is recorded as zero."""
+        commands_enu = ned_to_enu(setpoints_ned_mps)
+        commands_enu[~sent] = 0.0
+        self.t_s[k] = t_s
+        self.positions_enu_m[k] = positions_enu_m
+        self.commands_enu_mps[k] = commands_enu
+        self.footprint_side_m[k] = [camera.footprint_side_m(p[2]) for p in positions_enu_m]
+        self.alive[k] = alive
+
+
+def _broadcast(radio: InMemoryRadio, ground: GroundNode | None, t_s: float, positions_enu_m: NDArray[np.float64],
+               messages: Sequence[NeighbourState | None],
+               gcs_heard: dict[int, NeighbourState]) -> dict[int, NeighbourState]:
+    """Put the drones' state messages on the air; returns what the ground station holds now: every broadcast when it
+    is outside the radio, else what reached its antenna."""
+    if ground is None:
+        for message in radio.broadcast(t_s, positions_enu_m, messages):
+            if message is not None:
+                gcs_heard[message.sender_id] = message
+        return gcs_heard
+    radio.broadcast(t_s, ground.with_antenna(positions_enu_m), [*messages, None])
+    return dict(ground.heard)
+
+
+def _onboard_plan(scenario: Scenario, params: ControlParams
+                  ) -> tuple[OnboardPlan, NDArray[np.float64], NDArray[np.bool_]]:
+    """The fleet's onboard plan, its pads [m; (N,3) mission ENU] and which vehicles carry GPS."""
+    vehicles = scenario.vehicles
+    pads = np.array([v.pad_enu_m for v in vehicles], dtype=float)
+    gps = np.array([v.has_gps for v in vehicles], dtype=bool)
+    plan = OnboardPlan(
+        vehicle_ids=tuple(v.vehicle_id for v in vehicles), roles=tuple(v.role for v in vehicles),
+        pads_en_m=tuple((float(p[0]), float(p[1])) for p in pads), has_gps=tuple(bool(g) for g in gps),
+        params=params, limits=PhaseLimits(takeoff_altitude_m=scenario.altitude_m),
+    )
+    return plan, pads, gps
+
+
 def run_lockstep(
     scenario: Scenario,
     mode: str = ControlMode.PAPER,
@@ -162,14 +217,8 @@ def run_lockstep(
     camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
     vehicles = scenario.vehicles
     n = len(vehicles)
-    ids = [v.vehicle_id for v in vehicles]
-    pads = np.array([v.pad_enu_m for v in vehicles], dtype=float)
-    gps = np.array([v.has_gps for v in vehicles], dtype=bool)
-    plan = OnboardPlan(
-        vehicle_ids=tuple(ids), roles=tuple(v.role for v in vehicles),
-        pads_en_m=tuple((float(p[0]), float(p[1])) for p in pads), has_gps=tuple(bool(g) for g in gps),
-        params=params, limits=PhaseLimits(takeoff_altitude_m=scenario.altitude_m),
-    )
+    plan, pads, gps = _onboard_plan(scenario, params)
+    ids = list(plan.vehicle_ids)
     delays_s = start_delays_s(tuple(ids), scenario.start_jitter_s, seed)
     core = initial_state(plan, Phase.STANDBY if any(delays_s) else Phase.MISSION)
     started = GroundOrder(Command.START, 0.0, 0.0)
@@ -184,23 +233,18 @@ def run_lockstep(
     fleet = make_backend(backend, scenario, seed)
     state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
+    camera_idx = [i for i, v in enumerate(vehicles) if cameras == "all" or v.role == ROLE_BOUNDARY]
     ring_order = params.ring_order()
     leader_id = next((v.vehicle_id for v in vehicles if v.role == ROLE_LEADER and v.has_gps), None)
     gcs_heard: dict[int, NeighbourState] = {}
     max_report_age_s = report_max_age_s(scenario.control_rate_hz)
 
-    t_rec = np.zeros(steps + 1)
-    pos_rec = np.zeros((steps + 1, n, 3))
-    cmd_rec = np.zeros((steps + 1, n, 3))
-    foot_rec = np.zeros((steps + 1, n))
-    alive_rec = np.ones((steps + 1, n), dtype=bool)
+    trace = _Trace.empty(steps + 1, n)
     polygons: list[PolygonSample] = []
     encircle_time_s: float | None = None
-    events: list[tuple[float, str]] = [
-        (0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {n} vehicles, backend {backend.value}")]
-    next_polygon_t = 0.0
+    events = [(0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {n} vehicles, backend {backend.value}")]
+    next_polygon_t = next_frame_t = 0.0
     frame_period_s = 1.0 / scenario.camera.rate_hz
-    next_frame_t = 0.0
     perceptions: list[PerceptionResult | None] = [None] * n
     frames = 0
     wind = mean_wind_en_mps(scenario)
@@ -222,40 +266,27 @@ def run_lockstep(
         previous_velocity_ned = velocity_ned
         if slot_reached(next_frame_t, t_s):
             next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
-            for i, vehicle in enumerate(vehicles):
-                if state.alive[i] and (cameras == "all" or vehicle.role == ROLE_BOUNDARY):
-                    pose = CameraPose(tilt_rad=(float(tilts[i, 0]), float(tilts[i, 1])), vehicle_id=ids[i],
-                                      velocity_en_mps=(float(velocity_ned[i, 1]), float(velocity_ned[i, 0])),
-                                      wind_en_mps=wind)
-                    perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging,
-                                                     float(state.yaw_ned_rad[i]), float(state.reported_yaw_ned_rad[i]))
-                    frames += 1
+            for i in (i for i in camera_idx if state.alive[i]):
+                pose = CameraPose(tilt_rad=(float(tilts[i, 0]), float(tilts[i, 1])), vehicle_id=ids[i],
+                                  velocity_en_mps=(float(velocity_ned[i, 1]), float(velocity_ned[i, 0])),
+                                  wind_en_mps=wind)
+                perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging,
+                                                 float(state.yaw_ned_rad[i]), float(state.reported_yaw_ned_rad[i]))
+                frames += 1
         orders = tuple(started if t_s >= delay - 1e-9 else waiting for delay in delays_s)
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, pads, gps, scenario),
                                perception=perceptions, inbox=inboxes, orders=orders)
         outputs, core = onboard_step(plan, core, inputs)
-        if ground is None:
-            for message in radio.broadcast(t_s, positions, outputs.state_messages):
-                if message is not None:
-                    gcs_heard[message.sender_id] = message
-        else:
-            radio.broadcast(t_s, ground.with_antenna(positions), [*outputs.state_messages, None])
-            gcs_heard = dict(ground.heard)
+        gcs_heard = _broadcast(radio, ground, t_s, positions, outputs.state_messages, gcs_heard)
         sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)
-        commands_enu = ned_to_enu(outputs.velocity_setpoint_ned_mps)
-        commands_enu[~sent] = 0.0
-        t_rec[k] = t_s
-        pos_rec[k] = positions
-        cmd_rec[k] = commands_enu
-        foot_rec[k] = [camera.footprint_side_m(p[2]) for p in positions]
-        alive_rec[k] = state.alive
+        trace.add(k, t_s, positions, outputs.velocity_setpoint_ned_mps, sent, state.alive, camera)
         if encircle_time_s is None and any(core.memories[i].encircled for i in boundary_idx):
             encircle_time_s = t_s
             events.append((t_s, "encircling complete: the two groups' leading drones met"))
         if slot_reached(next_polygon_t, t_s) and ring_order:
             leader = gcs_heard.get(leader_id) if leader_id is not None else None
-            offset = georeference_offset_en_m(leader, scenario.home)
-            ring = aggregate_polygon(gcs_heard, ring_order, offset, t_s, max_report_age_s)
+            ring = aggregate_polygon(gcs_heard, ring_order, georeference_offset_en_m(leader, scenario.home), t_s,
+                                     max_report_age_s)
             polygons.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
             next_polygon_t = next_slot_s(next_polygon_t, scenario.polygon_period_s, t_s)
         if k < steps:
@@ -268,20 +299,10 @@ def run_lockstep(
     cpu_s = time.process_time() - cpu_start
     events.append((steps * dt_s, f"lockstep end after {wall_s:.2f} s wall"))
     record = MissionRecord(
-        scenario=scenario.name,
-        mode=mode,
-        engine="lockstep",
-        seed=seed,
-        vehicle_ids=ids,
-        roles=[v.role for v in vehicles],
-        t_s=t_rec,
-        positions_enu_m=pos_rec,
-        commands_enu_mps=cmd_rec,
-        footprint_side_m=foot_rec,
-        alive=alive_rec,
-        polygons=polygons,
-        encircle_time_s=encircle_time_s,
-        climb_events=[m.climb_events for m in core.memories],
+        scenario=scenario.name, mode=mode, engine="lockstep", seed=seed, vehicle_ids=ids,
+        roles=[v.role for v in vehicles], t_s=trace.t_s, positions_enu_m=trace.positions_enu_m,
+        commands_enu_mps=trace.commands_enu_mps, footprint_side_m=trace.footprint_side_m, alive=trace.alive,
+        polygons=polygons, encircle_time_s=encircle_time_s, climb_events=[m.climb_events for m in core.memories],
         events=events,
     )
     return LockstepResult(record, flood, params, wall_s, cpu_s, steps, frames, radio.heard_total, radio.lost_total,
