@@ -7,7 +7,7 @@ presets' mixes, on a seed set used while developing or on a held-out one; writes
 
 Each condition is one ``[imaging]`` key switched on alone (at its ``rough`` value), ``tilt`` a level-less camera
 (roll and pitch drawn up to ±15°, given to perception as ATTITUDE reports it), ``moderate`` / ``rough`` the presets'
-imaging keys (issue 15) with the drones tilted too. Poses: within 6 m of the true edge of a flood drawn in turn from
+imaging keys with the drones tilted too. Poses: within 6 m of the true edge of a flood drawn in turn from
 ``camera.truth.ACCURACY_FLOODS`` (or ``--floods``), at 10 m, random yaw and ground velocity (up to 5 m/s, for motion
 blur); the appearance seed (textures, sun, shadows, turbidity) changes every ``frames / len(seeds)`` frames.
 Development used ``DEV`` only; ``HELD_OUT`` was never looked at while perception was being built.
@@ -39,7 +39,7 @@ HELD_OUT = {"appearance": (101, 202, 303, 404, 505, 606, 707, 808, 909, 1010), "
 """Seeds kept out of development: the figures reported."""
 
 def _preset_imaging(preset: str) -> ImagingSpec:
-    """The ``[imaging]`` keys of a weather preset (``mission_plan.weather_presets``, issue 15's numbers)."""
+    """The ``[imaging]`` keys of a weather preset (``mission_plan.weather_presets``, the specified numbers)."""
     prefix = "imaging."
     return imaging_spec({k[len(prefix):]: v for k, v in PRESETS[preset].items() if k.startswith(prefix)})
 

@@ -1,9 +1,9 @@
 """Weather presets: ``weather = "calm" | "moderate" | "rough"``, each a table of dotted-key defaults.
 
 A preset fills in keys the scenario (its TOML or ``--set``) leaves unset: the user's own keys always win. The
-numbers are the issue's and are fixed: they are what "moderate" means, never tuned to meet a target. Every preset
+numbers are fixed before any tuning: they are what "moderate" means, never tuned to meet a target. Every preset
 jitters the launch pads (``fleet.pad_jitter_m``) and the agents' start times (``fleet.start_jitter_s``) so that two
-seeds give two runs. ``vignetting`` is not fixed by the issue: 0.2 / 0.4 is our reading.
+seeds give two runs. ``vignetting`` is not fixed by the specification: 0.2 / 0.4 is our reading.
 
 Keys of a table the schema does not know are left out (:func:`apply_weather_preset`'s ``known_tables``), so the
 preset can name the ``[imaging]`` keys before the imaging schema exists and they flow in once it does.
@@ -49,7 +49,7 @@ PRESETS: dict[str, dict[str, Any]] = {
         **_JITTER,
     },
 }
-"""Preset name -> dotted key -> value (the issue's numbers)."""
+"""Preset name -> dotted key -> value (the specified numbers)."""
 
 
 def weather_name(raw: Mapping[str, Any]) -> str:

@@ -35,7 +35,7 @@ def check_models(scenario: Scenario) -> None:
 
 
 def summary_of(metrics: dict[str, Any]) -> dict[str, Any]:
-    """The headline figures of a metrics.json (the issue's targets)."""
+    """The headline figures of a metrics.json (the SPEC §5 targets)."""
     summary = metrics.get("summary", metrics)
     return {key: summary.get(key) for key in SUMMARY_KEYS}
 

@@ -4,7 +4,7 @@ Per-sample metrics (tracking error, spacing, leader centring, safety) are comput
 grid coverage and the polygon comparisons are sampled every ``coverage_period_s`` / ``polygon_period_s`` (0.5 s by
 default) plus the last sample, which keeps a 60 s, 10 Hz record well under a second and a 200-vehicle one in
 seconds. "Final" values are those at the last sample (t = duration); "last 10 s" values average the window
-``[t_end - 10 s, t_end]`` as the issue's targets do.
+``[t_end - 10 s, t_end]`` as the SPEC §5 targets do.
 """
 
 from __future__ import annotations

@@ -100,7 +100,7 @@ def _polygons(flood: ExpandingCircle, t: NDArray[np.float64], pos: NDArray[np.fl
 
 
 def _follower_offsets(n: int, radius_m: float) -> NDArray[np.float64]:
-    """Up to 4 followers at ``radius_m`` on the diagonals (the issue's layout); more fill a disc (Vogel spiral)."""
+    """Up to 4 followers at ``radius_m`` on the diagonals (the layout of the paper's Fig. 8); more fill a disc (Vogel spiral)."""
     if n <= 4:
         a = math.pi / 4 + np.arange(n) * math.pi / 2
         return np.stack([radius_m * np.cos(a), radius_m * np.sin(a)], axis=-1)

@@ -1,4 +1,4 @@
-"""Weather presets: the issue's numbers as defaults under the user's own keys; bad weather keys name the field."""
+"""Weather presets: the specified numbers as defaults under the user's own keys; bad weather keys name the field."""
 
 from __future__ import annotations
 
@@ -26,13 +26,13 @@ def test_default_is_calm_still_air_exact_sensors_with_jitter() -> None:
     assert scenario.start_jitter_s == 0.2
 
 
-def test_moderate_sets_the_issue_numbers() -> None:
+def test_moderate_sets_the_specified_numbers() -> None:
     scenario = load_scenario("circle", ["weather=moderate"])
     assert scenario.wind == WindSpec(5.0, 270.0, "light", 3.0, 3.0, 20.0)
     assert scenario.sensors == SensorSpec(0.3, 0.5, 60.0, 0.2, 1.0, 0.01)
 
 
-def test_rough_sets_the_issue_numbers() -> None:
+def test_rough_sets_the_specified_numbers() -> None:
     scenario = load_scenario("circle", ["weather=rough"])
     assert scenario.wind == WindSpec(9.0, 270.0, "moderate", 5.0, 3.0, 20.0)
     assert scenario.sensors == SensorSpec(0.6, 1.5, 60.0, 0.4, 3.0, 0.03)

@@ -1,6 +1,6 @@
 """A multicopter hovering in wind: PX4's velocity loop holds it near its setpoint (truth), gusts and eddies move it.
 
-The issue's figure: 120 s in a 6 m/s mean wind with moderate Dryden turbulence, horizontal error from the
+The specified figure: 120 s in a 6 m/s mean wind with moderate Dryden turbulence, horizontal error from the
 setpoint p95 <= 1.5 m and max <= 3 m, on both vehicle backends.
 """
 
@@ -28,7 +28,7 @@ def _errors(positions_ned_m: list[np.ndarray], target_ned_m: np.ndarray) -> np.n
 
 
 @pytest.mark.parametrize("seed", [1, pytest.param(2, marks=pytest.mark.slow)])
-def test_px4_hold_in_wind_stays_within_the_issue_bounds(seed: int) -> None:
+def test_px4_hold_in_wind_stays_within_the_specified_bounds(seed: int) -> None:
     configs = px4_vehicle_configs(KinematicLimits(), 10.0, [(0.0, 0.0)], weather=Weather(WINDY, seed=seed))
     backend = Px4Backend(configs)
     backend.hover_start(10.0)
@@ -61,7 +61,7 @@ def _kinematic_hover(weather: Weather) -> tuple[np.ndarray, np.ndarray, object]:
     return _errors(truth, target), target, state
 
 
-def test_kinematic_backend_under_a_position_loop_stays_within_the_issue_bounds() -> None:
+def test_kinematic_backend_under_a_position_loop_stays_within_the_specified_bounds() -> None:
     errors, _, _ = _kinematic_hover(Weather(WINDY, seed=3))
     assert np.percentile(errors, 95) <= 1.5
     assert errors.max() <= 3.0

@@ -5,7 +5,7 @@ Measured (bench/camera_perception.py --accuracy 300, same pose generator, 300 fr
 60°; perception at 93e3219): pooled water IoU 0.9990-0.9998, per-frame IoU 5th percentile 0.993-0.998, midpoint
 error p95 <= 0.008 m and max <= 0.08 m, centroid error max <= 0.17 m (frames where one class is a thin sliver),
 median edge-point distance to the true shore 0.009-0.010 m (the pixel is 0.09 m), no wrong Algorithm 1 flag.
-The asserted bounds are the issue's targets (IoU >= 0.97, midpoint <= 0.3 m) and, where it states none, a few
+The asserted bounds are the perception targets (IoU >= 0.97, midpoint <= 0.3 m) and, where it states none, a few
 times the measured figures. docs/PERCEPTION.md has the full table.
 """
 
@@ -124,7 +124,7 @@ def test_accuracy_at_other_heights_and_a_4_3_camera(altitude_m: float, camera: C
 @pytest.mark.slow
 @pytest.mark.parametrize("scenario", ["breach", "river", "pluvial"])
 def test_accuracy_on_the_hydro_scenarios_at_held_out_seeds(scenario: str) -> None:
-    """The issue's targets on each hydro scenario's own flood (turbid shore, relief under the drone): 300 poses,
+    """The perception targets on each hydro scenario's own flood (turbid shore, relief under the drone): 300 poses,
     a pose generator seed and an appearance seed that were not used while the water's look was developed."""
     s = load_scenario(scenario)
     flood = flood_model_from_config(s.flood, seed=s.seed, base_dir=s.source_dir)

@@ -1,4 +1,4 @@
-"""Perception under hard imagery and a tilting camera, scored against the renderer's truth (issue 15's targets:
+"""Perception under hard imagery and a tilting camera, scored against the renderer's truth (the weather targets:
 pooled water IoU >= 0.95, midpoint error p95 <= 0.3 m at 10 m, on seeds not used while developing).
 
 The default run checks a few conditions on a small held-out sample; ``-m slow`` runs the 300-pose table of
