@@ -11,7 +11,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 from gcs.campaign.grid import Mode
-from gcs.campaign.summary import distribution
+from gcs.campaign.summary import distribution_cell
 
 Row = Mapping[str, object]
 
@@ -30,14 +30,6 @@ COLUMNS: tuple[tuple[str, str, str], ...] = (
     ("edge_speed_p50_mps", "edge speed p50 [m/s]", "{:.3f}"),
     ("edge_speed_p95_mps", "edge speed p95 [m/s]", "{:.3f}"),
 )
-
-
-def _cell(rows: Sequence[Row], key: str, pattern: str) -> str:
-    stats = distribution(r.get(key) for r in rows)
-    if stats.n == 0:
-        return "—"
-    low, mid, high = (pattern.format(v) for v in (stats.p5, stats.p50, stats.p95))
-    return mid if low == high else f"{mid} [{low}, {high}]"
 
 
 def _at_least(value: object, limit: float) -> bool:
@@ -77,6 +69,6 @@ def hydro_section(ok_rows: Mapping[str, Sequence[Row]]) -> list[str]:
         for mode in (Mode.PAPER, Mode.IMPROVED):
             mine = [r for r in rows if r.get("mode") == mode.value]
             target = _meets(mine) if name in TARGETED and mode is Mode.IMPROVED else "(not a target)"
-            cells = [f"`{name}`", mode.value, str(len(mine)), *(_cell(mine, k, p) for k, _, p in COLUMNS), target]
+            cells = [f"`{name}`", mode.value, str(len(mine)), *(distribution_cell(mine, k, p) for k, _, p in COLUMNS), target]
             lines.append("| " + " | ".join(cells) + " |")
     return [*lines, ""]

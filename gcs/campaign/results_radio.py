@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 
-from gcs.campaign.summary import distribution
+from gcs.campaign.summary import distribution, distribution_cell
 
 Row = Mapping[str, object]
 
@@ -61,14 +61,6 @@ TARGETS: tuple[tuple[str, str, str, float], ...] = (
 """(metric, statistic over the seeds, comparison, limit): the target at 50 % average loss in 1 s bursts."""
 
 
-def _cell(rows: Sequence[Row], key: str, pattern: str) -> str:
-    stats = distribution(r.get(key) for r in rows)
-    if stats.n == 0:
-        return "—"
-    low, mid, high = (pattern.format(v) for v in (stats.p5, stats.p50, stats.p95))
-    return mid if low == high else f"{mid} [{low}, {high}]"
-
-
 def _lowest(rows: Sequence[Row], key: str) -> float:
     values = [float(v) for v in (r.get(key) for r in rows) if isinstance(v, (int, float)) and math.isfinite(v)]
     return min(values) if values else math.nan
@@ -114,7 +106,7 @@ def radio_section(ok_rows: Mapping[str, Sequence[Row]], planned_seeds: int) -> l
         n = len(rows) if len(rows) >= planned_seeds else f"{len(rows)} of {planned_seeds}"
         near = sum(1 for r in rows if isinstance(r.get("near_miss_pairs"), (int, float)) and r["near_miss_pairs"] > 0)
         lowest = _lowest(rows, "min_pairwise_distance_m")
-        lines.append("| " + " | ".join([label, str(n), *(_cell(rows, k, p) for k, _, p in COLUMNS),
+        lines.append("| " + " | ".join([label, str(n), *(distribution_cell(rows, k, p) for k, _, p in COLUMNS),
                                         f"{lowest:.2f}" if math.isfinite(lowest) else "—",
                                         str(near) if rows else "—"]) + " |")
     target_rows = list(ok_rows.get(burst_campaign(TARGET_BURST_S), []))

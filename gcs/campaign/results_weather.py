@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 
 from gcs.campaign.grid import Mode
 from gcs.campaign.results_radio import target_lines
-from gcs.campaign.summary import distribution
+from gcs.campaign.summary import distribution, distribution_cell
 
 Row = Mapping[str, object]
 
@@ -47,14 +47,6 @@ def weather_campaign(preset: str) -> str:
 def weather_fixed(preset: str) -> tuple[str, ...]:
     """The ``--set`` assignments of a preset's campaign."""
     return (f"weather={preset}",)
-
-
-def _cell(rows: Sequence[Row], key: str, pattern: str) -> str:
-    stats = distribution(r.get(key) for r in rows)
-    if stats.n == 0:
-        return "—"
-    low, mid, high = (pattern.format(v) for v in (stats.p5, stats.p50, stats.p95))
-    return mid if low == high else f"{mid} [{low}, {high}]"
 
 
 def _of_mode(rows: Sequence[Row], mode: Mode) -> list[Row]:
@@ -100,7 +92,7 @@ def weather_section(ok_rows: Mapping[str, Sequence[Row]], planned_seeds: int) ->
                          if isinstance(v, (int, float)) and math.isfinite(v)]
             lowest = f"{min(distances):.2f}" if distances else "—"
             close = str(sum(1 for d in distances if d < 1.0)) if distances else "—"
-            lines.append("| " + " | ".join([f"`{preset}`", mode.value, n, *(_cell(cell, k, p) for k, _, p in COLUMNS),
+            lines.append("| " + " | ".join([f"`{preset}`", mode.value, n, *(distribution_cell(cell, k, p) for k, _, p in COLUMNS),
                                             lowest, close]) + " |")
     target_rows = _of_mode(ok_rows.get(weather_campaign(TARGET_PRESET), []), Mode.IMPROVED)
     ratios = path_ratios(ok_rows.get(weather_campaign(TARGET_PRESET), []), ok_rows.get(weather_campaign("calm"), []))

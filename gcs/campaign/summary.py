@@ -77,6 +77,16 @@ def distribution(values: Iterable[Any]) -> Stats:
     return Stats(len(kept), float(np.mean(kept)), p5, p50, p95, missing)
 
 
+def distribution_cell(rows: Iterable[Row], key: str, pattern: str) -> str:
+    """A table cell of ``key`` over ``rows``: ``p50 [p5, p95]``, the single value when p5 and p95 read the same,
+    ``—`` without values."""
+    stats = distribution(r.get(key) for r in rows)
+    if stats.n == 0:
+        return "—"
+    low, mid, high = (pattern.format(v) for v in (stats.p5, stats.p50, stats.p95))
+    return mid if low == high else f"{mid} [{low}, {high}]"
+
+
 def ok_rows(rows: Iterable[Row]) -> list[Row]:
     return [row for row in rows if not row.get(ERROR_COLUMN)]
 
