@@ -229,7 +229,7 @@ def run_lockstep(
         radio_model_of(scenario.radio, seed),
         [*ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else ids,
     )
-    ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(pads))
+    ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(pads), scenario.control_rate_hz)
     fleet = make_backend(backend, scenario, seed)
     state = fleet.hover_start(scenario.altitude_m)
     boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
