@@ -3,8 +3,8 @@
 300 drones on the 10 m grid of ``bench/comms_radio.py`` (range 25 m, ~17.5 neighbours each), states with 8 edge
 points, queued 30 per batch (one 5 ms delivery cycle at 20 Hz), each batch decided and handed out as the emulator
 does in one delivery cycle: one encoded ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the
-codec in a checkout without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main | tar -x -C /tmp/before``),
-so before and after run on the same load. Run:
+codec in a checkout without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
+tar -x -C /tmp/before``), so before and after run on the same load. Run:
 
     .venv/bin/python bench/radio_relay.py
     .venv/bin/python bench/radio_relay.py --tree /tmp/before

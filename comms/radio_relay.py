@@ -207,7 +207,8 @@ class RadioRelay:
         sender_ids = self._ids[slots_a].tolist()
         entries = np.empty(len(batch), dtype=object)
         entries[:] = [encode_entry(sid, payload) for sid, payload in zip(sender_ids, payload_list)]
-        self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m], entries[m]))
+        self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m],
+                                entries[m]))
         self._in_flight_count += n_ok
 
     def _count_links(self, sender_index: np.ndarray, receiver_index: np.ndarray, delivered: np.ndarray) -> None:
