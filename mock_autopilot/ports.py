@@ -73,4 +73,10 @@ def link_hosts(bind: str | None, partner_specs: Sequence[str]) -> LinkHosts:
             ipaddress.ip_address(bind)
         except ValueError:
             raise ValueError(f"--bind {bind!r}: expected an IP address, e.g. 0.0.0.0") from None
-    return LinkHosts(bind=bind, onboard_partners=parse_onboard_partners(partner_specs))
+    hosts = LinkHosts(bind=bind, onboard_partners=parse_onboard_partners(partner_specs))
+    if ipaddress.ip_address(hosts.bind_host).is_loopback:
+        remote = [ip for _, ip in hosts.onboard_partners if not ipaddress.ip_address(ip).is_loopback]
+        if remote:
+            raise ValueError(f"--bind {hosts.bind_host}: a loopback socket cannot reach the onboard partner {remote[0]} "
+                             f"(bind 0.0.0.0 or that interface's address)")
+    return hosts

@@ -111,6 +111,8 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         except KeyFileError as exc:
             _fail(f"--key-file: {exc}")
     check_dashboard_args(ns.dashboard_port, ns.dashboard_token, ns.tiles, _fail)
+    if ns.engine != "processes" and (not ns.start_agents or ns.fleet_bind or ns.onboard_partner):
+        _fail("--no-agents, --fleet-bind, --onboard-partner: only the processes engine has agents and a fleet to place")
     try:
         link_hosts(ns.fleet_bind, ns.onboard_partner)
     except ValueError as exc:

@@ -34,3 +34,10 @@ def test_a_bad_partner_or_bind_address_names_the_option(spec: str) -> None:
         parse_onboard_partners([spec])
     with pytest.raises(ValueError, match="--bind"):
         link_hosts("localhost", [])
+
+
+def test_partners_on_other_hosts_need_a_fleet_bound_beyond_loopback() -> None:
+    with pytest.raises(ValueError, match="--bind 127.0.0.1: a loopback socket cannot reach"):
+        link_hosts(None, ["1-2=10.216.1.2"])
+    assert link_hosts(None, ["1=127.0.0.2"]).onboard_host(1) == "127.0.0.2"
+    assert link_hosts("10.216.1.1", ["1=10.216.1.2"]).bind_host == "10.216.1.1"
