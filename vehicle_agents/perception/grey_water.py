@@ -36,8 +36,8 @@ MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
 WATER_TEXTURE_MAX = -7.8
 """Median log variance of the log brightness over 3x3 pixels below which ground is flat enough to be water."""
-COARSE_WATER_TEXTURE_MAX = -3.5
-"""... and whose mean log coefficient of variation over 7x7 pixels is below this (a frame of one class)."""
+COARSE_WATER_TEXTURE_MAX = -3.2
+"""... and whose median log coefficient of variation over 7x7 pixels is below this (a frame of one class)."""
 MIN_SPLIT_FRACTION = 0.005
 """Each class of an accepted split covers at least this share of the frame."""
 GLINT_ROUNDS = 2
@@ -177,9 +177,12 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
 
 
 def coarse_texture(image_bgr: NDArray[np.uint8]) -> float:
-    """Mean log coefficient of variation of the brightness over 7x7 windows: land seen from close up (its fine
-    texture blurred over several pixels) still has patches at this scale; water has none."""
-    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY).astype(np.float32)
+    """Median log coefficient of variation of the brightness over 7x7 windows, on its lower envelope (each pixel at
+    most its 3x3 median, so glint and foam specks do not count): land seen from close up (its fine texture blurred
+    over several pixels) still has patches at this scale; water has none."""
+    grey8 = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)
+    grey = cv2.min(grey8, cv2.medianBlur(grey8, 3)).astype(np.float32)
     mean = cv2.blur(grey, (7, 7))
     variance = cv2.max(cv2.subtract(cv2.sqrBoxFilter(grey, cv2.CV_32F, (7, 7)), cv2.multiply(mean, mean)), 0.25)
-    return float(cv2.mean(cv2.subtract(cv2.multiply(cv2.log(variance), 0.5), cv2.log(mean + 1.0)))[0])
+    log_cv = cv2.subtract(cv2.multiply(cv2.log(variance), 0.5), cv2.log(mean + 1.0))
+    return float(np.median(log_cv[::2, ::2]))
