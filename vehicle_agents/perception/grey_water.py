@@ -38,7 +38,7 @@ WATER_TEXTURE_MAX = -7.8
 """Median log variance of the log brightness over 3x3 pixels below which ground is flat enough to be water."""
 COARSE_WATER_TEXTURE_MAX = -3.2
 """... and whose median log coefficient of variation over 7x7 pixels is below this (a frame of one class)."""
-MIN_SPLIT_FRACTION = 0.01
+MIN_SPLIT_FRACTION = 0.005
 """Each class of an accepted split covers at least this share of the frame."""
 GLINT_ROUNDS = 2
 """How many times a rougher high class is taken as glint on water and the rest split again."""
