@@ -84,10 +84,20 @@ def imaging_spec(table: Mapping[str, Any]) -> ImagingSpec:
     )
 
 
+def check_imaging(spec: ImagingSpec) -> None:
+    """Range-check an :class:`ImagingSpec` that did not come through :func:`imaging_spec` (a plan file decoded
+    into one): the same one-line :class:`ScenarioError` naming the field as a scenario's ``[imaging]`` table."""
+    imaging_spec({f.name: getattr(spec, f.name) for f in fields(ImagingSpec)})
+
+
 def mean_wind_en_mps(scenario: object) -> tuple[float, float]:
     """The mean wind the cloud shadows drift with [m/s; east, north]: the scenario's ``[wind]`` table
     (``speed_mps`` blowing FROM ``from_deg``, clockwise from north) when it has one, else calm."""
-    wind = getattr(scenario, "wind", None)
+    return wind_vector_en_mps(getattr(scenario, "wind", None))
+
+
+def wind_vector_en_mps(wind: object) -> tuple[float, float]:
+    """A ``[wind]`` spec's mean wind as the vector it blows towards [m/s; east, north] (calm for None)."""
     speed = float(getattr(wind, "speed_mps", 0.0) or 0.0)
     if not (math.isfinite(speed) and speed > 0.0):
         return (0.0, 0.0)

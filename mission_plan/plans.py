@@ -25,7 +25,7 @@ from mission_plan.fleet import VehicleSpec
 from mission_plan.home import GeodeticHome
 from mission_plan.jitter import start_delays_s
 from mission_plan.roles import ROLES
-from mission_plan.imaging import ImagingSpec, mean_wind_en_mps
+from mission_plan.imaging import ImagingSpec, check_imaging, mean_wind_en_mps
 from mission_plan.scenario_schema import CameraSpec, Scenario
 from mission_plan.table_fields import ScenarioError
 from mission_plan.weather import SensorSpec, WindSpec
@@ -116,6 +116,7 @@ class CamerasPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_f
         if bad:
             raise ValueError(f"roles: unknown role {bad[0]!r}")
         _positive("camera.rate_hz", self.camera.rate_hz)
+        check_imaging(self.imaging)
 
 
 def _positive(name: str, value: float) -> None:

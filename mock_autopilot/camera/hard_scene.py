@@ -52,11 +52,6 @@ DEBRIS_PIECES = 420
 _SOIL_LUMINANCE = float(0.114 * SOIL_BGR[0] + 0.587 * SOIL_BGR[1] + 0.299 * SOIL_BGR[2])
 
 
-def _smoothstep(x: NDArray[np.float32]) -> NDArray[np.float32]:
-    x = np.clip(x, 0.0, 1.0)
-    return x * x * (3.0 - 2.0 * x)
-
-
 def _luminance(image: NDArray[np.float32]) -> NDArray[np.float32]:
     return cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
 
@@ -93,13 +88,19 @@ def _shadow_threshold(seed: int, cover: float) -> float:
 
 
 def _sample_periodic(tile: NDArray[np.float32], points_en_m: NDArray[np.float64], resolution_m: float,
-                     interpolation: int = cv2.INTER_LINEAR) -> NDArray[np.float32]:
-    """A world-anchored periodic tile sampled at each ground point (tile x = east, tile y = south). Coordinates are
-    taken relative to the tile period holding the first point, so they stay small; the tile wraps."""
+                     interpolation: int = cv2.INTER_LINEAR, shift_en_m: tuple[float, float] = (0.0, 0.0)
+                     ) -> NDArray[np.float32]:
+    """A world-anchored periodic tile sampled at each ground point minus ``shift_en_m`` (tile x = east, tile y =
+    south). Coordinates are taken relative to the tile period holding the first point, so they stay small; the tile
+    wraps. One affine ``cv2.transform`` builds the (x, y) map for ``cv2.remap``."""
     period_m = tile.shape[0] * resolution_m
-    origin = np.floor(points_en_m[0, 0] / period_m) * period_m
-    local = ((points_en_m - origin) / resolution_m).astype(np.float32)
-    return cv2.remap(tile, local[..., 0], -local[..., 1], interpolation, borderMode=cv2.BORDER_WRAP)
+    shift = np.asarray(shift_en_m, float)
+    offset = np.floor((points_en_m[0, 0] - shift) / period_m) * period_m + shift
+    k = 1.0 / resolution_m
+    # Tile y runs south: one period is added so the map lands inside the tile (wrapping far outside it is slow).
+    to_tile = np.array([[k, 0.0, -k * offset[0]], [0.0, -k, k * offset[1] + tile.shape[0]]])
+    xy = cv2.transform(points_en_m.reshape(-1, 1, 2), to_tile).astype(np.float32).reshape(points_en_m.shape)
+    return cv2.remap(tile, xy, None, interpolation, borderMode=cv2.BORDER_WRAP)
 
 
 def cloud_shadow_gain(points_en_m: NDArray[np.float64], t_s: float, wind_en_mps: tuple[float, float], cover: float,
@@ -107,10 +108,13 @@ def cloud_shadow_gain(points_en_m: NDArray[np.float64], t_s: float, wind_en_mps:
     """(H, W, 3) light left by the cloud shadows at flood time ``t_s`` (the field drifts with the mean wind)."""
     if cover >= 1.0:
         return np.broadcast_to(1.0 - SHADOW_LOSS_BGR, points_en_m.shape[:2] + (3,)).astype(np.float32)
-    drift = np.asarray(wind_en_mps, float) * t_s
-    field = _sample_periodic(_shadow_field(seed), points_en_m - drift, SHADOW_RESOLUTION_M)
-    shade = _smoothstep((field - np.float32(_shadow_threshold(seed, cover))) * np.float32(1.0 / SHADOW_SOFT) + 0.5)
-    return cv2.merge([1.0 - shade * np.float32(loss) for loss in SHADOW_LOSS_BGR])
+    drift = (float(wind_en_mps[0]) * t_s, float(wind_en_mps[1]) * t_s)
+    field = _sample_periodic(_shadow_field(seed), points_en_m, SHADOW_RESOLUTION_M, shift_en_m=drift)
+    scale = 1.0 / SHADOW_SOFT
+    x = cv2.min(cv2.max(cv2.addWeighted(field, scale, field, 0.0, 0.5 - _shadow_threshold(seed, cover) * scale), 0.0),
+                1.0)
+    shade = cv2.multiply(cv2.multiply(x, x), cv2.addWeighted(x, -2.0, x, 0.0, 3.0))  # smoothstep
+    return cv2.merge([cv2.addWeighted(shade, -float(loss), shade, 0.0, 1.0) for loss in SHADOW_LOSS_BGR])
 
 
 @lru_cache(maxsize=16)
@@ -132,14 +136,16 @@ def glint_layer(points_en_m: NDArray[np.float64], position_en_m: tuple[float, fl
     half_diagonal = 0.5 * float(np.hypot(*(corners[0] - corners[3])))
     if float(np.hypot(*(points_en_m[h // 2, w // 2] - centre))) > half_diagonal + reach_m:
         return np.zeros((h, w), np.float32)  # the glint is out of view
-    offset = (points_en_m - centre).astype(np.float32)
-    d2 = cv2.add(cv2.multiply(offset[..., 0], offset[..., 0]), cv2.multiply(offset[..., 1], offset[..., 1]))
+    offset = cv2.transform(points_en_m.reshape(-1, 1, 2), np.array([[1.0, 0.0, -centre[0]], [0.0, 1.0, -centre[1]]]))
+    east, north = cv2.split(offset.astype(np.float32).reshape(h, w, 2))
+    d2 = cv2.add(cv2.multiply(east, east), cv2.multiply(north, north))
     envelope = cv2.exp(d2 * np.float32(-0.5 / (GLINT_SPREAD_RAD * max(height_m, 0.1)) ** 2))
     rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, int(vehicle_id) & 0xFFFFFFFF,
                                  int(round(t_s * 1000.0)) & 0xFFFFFFFF, 0x611D])
-    sparkle = rng.random(((h + 1) // 2, (w + 1) // 2), dtype=np.float32) ** 4
-    sparkle = cv2.resize(sparkle, (w, h), interpolation=cv2.INTER_NEAREST)
-    return GLINT_DN * envelope * (0.4 + 2.0 * sparkle)
+    sparkle = rng.random(((h + 1) // 2, (w + 1) // 2), dtype=np.float32)
+    sparkle = cv2.multiply(sparkle, sparkle)
+    sparkle = cv2.resize(cv2.multiply(sparkle, sparkle), (w, h), interpolation=cv2.INTER_NEAREST)
+    return cv2.multiply(envelope, cv2.addWeighted(sparkle, 2.0 * GLINT_DN, sparkle, 0.0, 0.4 * GLINT_DN))
 
 
 @lru_cache(maxsize=4)

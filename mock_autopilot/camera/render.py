@@ -165,55 +165,82 @@ def render_frame(
         return _blank(camera)
     altitude_m = max(height_above_ground_m(flood, pos[:3]), MIN_ALTITUDE_M)
     gsd = camera.ground_sample_m(altitude_m)
-    m = MARGIN_PX
-    h, w = camera.height_px, camera.width_px
-    level = tilt == (0.0, 0.0)
-    if level:
-        to_tile = _texture_transform(camera, (float(pos[0]), float(pos[1])), gsd, yaw_ned_rad)
-    else:
-        to_ground = _tilted_homography(camera, altitude_m, yaw_ned_rad, tilt)
-        if to_ground is None:
-            return _blank(camera)
-        to_tile = _tile_from_ground(float(pos[0]), float(pos[1])) @ to_ground @ _PIXEL_CENTRES
-
+    to_tile = _tile_map(camera, pos, altitude_m, gsd, yaw_ned_rad, tilt)
+    if to_tile is None:
+        return _blank(camera)
+    m, h, w = MARGIN_PX, camera.height_px, camera.width_px
     points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m, tilt_rad=tilt)
-    depth = None
-    if _knows_depth(type(flood)):  # a tilted footprint is not an affine grid: per-point depth
-        depth_of = flood.depth_on_affine_grid_m if level else flood.depth_m  # type: ignore[attr-defined]
-        depth = depth_of(points, t_s)
-    water_padded = depth > flood.wet_depth_m if depth is not None else np.asarray(flood.is_water(points, t_s), bool)  # type: ignore[attr-defined]
+    water_padded, depth = _water_under(flood, points, t_s, level=tilt == (0.0, 0.0))
     water = water_padded[m : m + h, m : m + w]
-
-    textures = ground_textures(seed)
-    land = _sample_tile(textures.land_bgrw, to_tile, w, h)
-    effects = sensor_effects(seed, w, h)
-    colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
-    wet_factor = None
-    if water_padded.any():
-        distance_px = cv2.distanceTransform((~water_padded).view(np.uint8), cv2.DIST_L2, 3)[m : m + h, m : m + w]
-        band = cv2.extractChannel(land, 3).astype(np.float32)
-        wetness = 1.0 - cv2.divide(distance_px, band, scale=gsd / WET_BAND_UNIT_M)
-        np.copyto(wetness, 0.0, where=water)
-        wetness = cv2.max(wetness, 0.0)
-        # Wet soil is darker, and keeps more red than blue: a per-channel darkening of the land near the water.
-        wet_factor = cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
-        water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
-        if depth is not None:
-            flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
-            streaks = _streaks(flow, points[m : m + h, m : m + w], seed)
-            water_colour = _shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]), streaks)
-        colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
-
-    colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
-    gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
-    shaded = cv2.multiply(colour, gain, dtype=cv2.CV_8U)
-    image = cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
+    image = _ground_image(flood, t_s, pos, points, water_padded, depth, to_tile, camera, gsd, seed)
     if not imaging.is_clean:
         image = apply_imaging(image, water, imaging, FrameInputs(
             seed=seed, vehicle_id=pose.vehicle_id, t_s=t_s, ground_points_en_m=points[m : m + h, m : m + w],
             height_m=altitude_m, ground_sample_m=gsd, position_en_m=(float(pos[0]), float(pos[1])),
             velocity_en_mps=pose.velocity_en_mps, wind_en_mps=pose.wind_en_mps))
     return RenderedFrame(image_bgr=image, water_mask=water.copy(), ground_sample_m=gsd)
+
+
+def _tile_map(camera: CameraModel, pos: NDArray[np.float64], altitude_m: float, gsd: float, yaw_ned_rad: float,
+              tilt: tuple[float, float]) -> NDArray[np.float64] | None:
+    """Image pixel -> texture-tile pixel: 2x3 affine when level, 3x3 homography when tilted (None: the tilted camera
+    sees the horizon)."""
+    if tilt == (0.0, 0.0):
+        return _texture_transform(camera, (float(pos[0]), float(pos[1])), gsd, yaw_ned_rad)
+    to_ground = _tilted_homography(camera, altitude_m, yaw_ned_rad, tilt)
+    if to_ground is None:
+        return None
+    return _tile_from_ground(float(pos[0]), float(pos[1])) @ to_ground @ _PIXEL_CENTRES
+
+
+def _water_under(flood: FloodModel, points: NDArray[np.float64], t_s: float, level: bool
+                 ) -> tuple[NDArray[np.bool_], NDArray[np.float32] | None]:
+    """(water at each ground point, depth there or None for a flood without depth). A level footprint is an affine
+    grid (one warp of the depth raster); a tilted one is not (per-point depth)."""
+    if not _knows_depth(type(flood)):
+        return np.asarray(flood.is_water(points, t_s), bool), None
+    depth_of = flood.depth_on_affine_grid_m if level else flood.depth_m  # type: ignore[attr-defined]
+    depth = depth_of(points, t_s)
+    return depth > flood.wet_depth_m, depth  # type: ignore[attr-defined]
+
+
+def _ground_image(flood: FloodModel, t_s: float, pos: NDArray[np.float64], points: NDArray[np.float64],
+                  water_padded: NDArray[np.bool_], depth: NDArray[np.float32] | None, to_tile: NDArray[np.float64],
+                  camera: CameraModel, gsd: float, seed: int) -> NDArray[np.uint8]:
+    """The scene through the lens: land and water textures, the wet shore band, depth shading and flow streaks, then
+    optical blur, lighting (sun gradient, vignetting) and sensor noise."""
+    m, h, w = MARGIN_PX, camera.height_px, camera.width_px
+    water = water_padded[m : m + h, m : m + w]
+    textures = ground_textures(seed)
+    land = _sample_tile(textures.land_bgrw, to_tile, w, h)
+    colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
+    wet_factor = None
+    if water_padded.any():
+        wet_factor = _wet_shore_factor(water_padded, water, land, gsd)
+        water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
+        if depth is not None:
+            flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
+            streaks = _streaks(flow, points[m : m + h, m : m + w], seed)
+            water_colour = _shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]), streaks)
+        colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
+    colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
+    effects = sensor_effects(seed, w, h)
+    gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
+    shaded = cv2.multiply(colour, gain, dtype=cv2.CV_8U)
+    return cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
+
+
+def _wet_shore_factor(water_padded: NDArray[np.bool_], water: NDArray[np.bool_], land_bgrw: NDArray[np.uint8],
+                      gsd: float) -> NDArray[np.float32]:
+    """(H, W, 3) gain darkening the land within the seeded wet band of the water (wet soil is darker, and keeps
+    more red than blue); 1 on the water and beyond the band."""
+    m, h, w = MARGIN_PX, water.shape[0], water.shape[1]
+    distance_px = cv2.distanceTransform((~water_padded).view(np.uint8), cv2.DIST_L2, 3)[m : m + h, m : m + w]
+    band = cv2.extractChannel(land_bgrw, 3).astype(np.float32)
+    wetness = 1.0 - cv2.divide(distance_px, band, scale=gsd / WET_BAND_UNIT_M)
+    np.copyto(wetness, 0.0, where=water)
+    wetness = cv2.max(wetness, 0.0)
+    return cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
 
 
 def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], seed: int) -> NDArray[np.float32]:

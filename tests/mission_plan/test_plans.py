@@ -97,3 +97,21 @@ def test_fleet_plan_checks_its_vehicles(circle) -> None:  # noqa: ANN001
 def test_agent_plan_for_an_unknown_vehicle(circle) -> None:  # noqa: ANN001
     with pytest.raises(ScenarioError, match="--id 14: scenario circle has vehicles 1..13"):
         agent_plan(circle, 14, "paper")
+
+
+@pytest.mark.parametrize(("key", "value", "message"), [
+    ("noise_sigma", -1.0, "imaging.noise_sigma: must be >= 0"),
+    ("jpeg_quality", 101, "imaging.jpeg_quality: must be 0 (no JPEG) or 1..100"),
+    ("cloud_shadow_cover", 1.5, "imaging.cloud_shadow_cover: must be <= 1"),
+    ("exposure_drift", 0.95, "imaging.exposure_drift: must be <= 0.9"),
+])
+def test_a_cameras_plan_range_checks_its_imaging(circle, tmp_path: Path, key: str, value: object,  # noqa: ANN001
+                                                 message: str) -> None:
+    raw = json.loads(encode_plan(cameras_plan(circle)))
+    raw["imaging"] = dict(raw["imaging"], **{key: value})
+    path = tmp_path / "cameras.json"
+    path.write_text(json.dumps(raw))
+    with pytest.raises(PlanFileError) as info:
+        read_plan(path, CamerasPlan)
+    assert message in str(info.value) and str(path) in str(info.value)
+    assert len(str(info.value).splitlines()) == 1

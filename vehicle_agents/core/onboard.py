@@ -3,8 +3,10 @@
 The order inside a step is the agent's: decide the flight phase from telemetry and the ground station's order
 (:func:`vehicle_agents.flight_phase.next_phase`), file the inbox into the neighbour table
 (:mod:`vehicle_agents.core.neighbours`), run the control law of the drone's role when the phase says fly
-(:func:`vehicle_agents.control.step.control_step`: eq 8 + Algorithm 1, eq 9, eq 10), and build the state message
-it broadcasts (:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled there and only there).
+(:func:`vehicle_agents.control.step.control_step`: eq 8 + Algorithm 1, eq 9, eq 10) on the camera result it trusts
+(:mod:`vehicle_agents.perception.edge_trust`: one frame contradicting a recent edge is held, not obeyed), and
+build the state message it broadcasts (:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled
+there and only there).
 The laws still loop over drones; the interface is arrays in, arrays out, so that it holds when they no longer do.
 A neighbour's message is turned into what the laws read once per step, however many drones heard it, and the laws
 get their neighbours in id order whatever order the radio delivered them in.
@@ -32,6 +34,7 @@ from vehicle_agents.core.relay_admission import admitted
 from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
 from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
+from vehicle_agents.perception.edge_trust import NO_TRUST, EdgeTrust, trusted_result
 from vehicle_agents.perception.result import PerceptionResult
 
 SETPOINT_ACTIONS = frozenset({Action.FLY, Action.HOVER})
@@ -99,6 +102,8 @@ class OnboardState:
     seq: tuple[int, ...]
     tracks: tuple[TrackBank, ...] = ()
     """Each drone's neighbour filter (empty while the filter is off)."""
+    trust: tuple[EdgeTrust, ...] = ()
+    """Each drone's last trusted edge (:mod:`vehicle_agents.perception.edge_trust`)."""
     refused_copies: tuple[int, ...] = ()
     """Each drone's count of relayed copies refused as impossible (:mod:`vehicle_agents.core.relay_admission`)."""
 
@@ -139,6 +144,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     departed = list(state.departed)
     seq = list(state.seq)
     tracks = list(state.tracks) if state.tracks else [EMPTY_BANK] * n
+    trust = list(state.trust) if state.trust else [NO_TRUST] * n
     refused_copies = list(state.refused_copies) if state.refused_copies else [0] * n
     noise = filter_noise(params) if params.neighbour_filter else None
     timeout_s = table_hold_s(params) if noise is not None else params.neighbour_timeout_s
@@ -166,10 +172,11 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         if noise is not None:
             tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
+        perception, trust[i] = trusted_result(inputs.perception[i], own.position_en_m, t_s, trust[i])
         if action is Action.FLY:
             tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted, filtered_cache)
             start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
-            velocity, memories[i] = control_step(plan.roles[i], memories[i], own, inputs.perception[i], infos, params,
+            velocity, memories[i] = control_step(plan.roles[i], memories[i], own, perception, infos, params,
                                                  max(0.0, t_s - start_s))
             setpoints[i] = velocity_ned(velocity)
             yaws[i] = float(velocity.yaw_ned_rad)
@@ -179,13 +186,13 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         seq[i] += 1
         message = state_message(
             seq=seq[i], t_s=t_s, broadcast=own_broadcast(memories[i], own, t_s), own=own, tel=tel,
-            perception=inputs.perception[i], edge_points_en_m=memories[i].edge_points_en_m,
+            perception=perception, edge_points_en_m=memories[i].edge_points_en_m,
             leaving=action is Action.EXIT, low_battery=tel.battery_fraction < plan.limits.low_battery_fraction,
         )
         messages.append(_with_relayed(message, heard[i], vid, t_s, seq[i], params))
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
-                        departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks),
+                        departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks), trust=tuple(trust),
                         refused_copies=tuple(refused_copies))
     return outputs, new_state
 

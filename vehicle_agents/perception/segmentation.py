@@ -97,69 +97,41 @@ def _perceive(
         return PerceptionResult.no_measurement()
     h, w = image.shape[:2]
     footprint_m = 2.0 * altitude_m * math.tan(math.radians(fov_deg) / 2.0)
-    roll, pitch, yaw = attitude_rad
-    to_ground = pixel_to_ground(w, h, fov_deg, altitude_m, roll, pitch, yaw)
+    to_ground = pixel_to_ground(w, h, fov_deg, altitude_m, *attitude_rad)
     if to_ground is None or _unusable_exposure(image):
         return PerceptionResult.no_measurement(footprint_m)
-    gsd = footprint_m / w
     mask, score, threshold = segment_water(image)
-    if mask is None:
-        only_water = float(score.mean()) > threshold
-        return PerceptionResult(
-            has_edge=False,
-            water_fraction=1.0 if only_water else 0.0,
-            only_land=not only_water,
-            only_water=only_water,
-            footprint_side_m=footprint_m,
-            ground_sample_m=gsd,
-        )
+    water_fraction = cv2.countNonZero(mask.view(np.uint8)) / mask.size if mask is not None else float(
+        float(score.mean()) > threshold)
+    if not MIN_CLASS_FRACTION <= water_fraction <= 1.0 - MIN_CLASS_FRACTION:
+        only_water = water_fraction > 0.5
+        return PerceptionResult(has_edge=False, water_fraction=float(water_fraction), only_land=not only_water,
+                                only_water=only_water, footprint_side_m=footprint_m, ground_sample_m=footprint_m / w)
+    assert mask is not None  # a one-class frame has a fraction of 0 or 1
+    return _edge_result(mask, score, threshold, to_ground, footprint_m, max_edge_points)
 
+
+def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: float,
+                 to_ground: NDArray[np.float64], footprint_m: float, max_edge_points: int) -> PerceptionResult:
+    """What a frame holding both classes tells: centroids and their midpoint (eq 5's ``p − q``), the edge points,
+    its normal (water to land) and tangent (water on the left), all on the ground."""
+    h, w = mask.shape
     n = h * w
     m = cv2.moments(mask.view(np.uint8), binaryImage=True)
     n_water = m["m00"]
-    water_fraction = n_water / n
-    if water_fraction < MIN_CLASS_FRACTION or water_fraction > 1.0 - MIN_CLASS_FRACTION:
-        only_water = water_fraction > 0.5
-        return PerceptionResult(
-            has_edge=False,
-            water_fraction=float(water_fraction),
-            only_land=not only_water,
-            only_water=only_water,
-            footprint_side_m=footprint_m,
-            ground_sample_m=gsd,
-        )
-
     # Pixel-centre moments (x = column + 0.5, y = row + 0.5); the whole image's are known in closed form.
     water_px = np.array([m["m10"] / n_water + 0.5, m["m01"] / n_water + 0.5])
-    all_sum = np.array([n * w / 2.0, n * h / 2.0])
-    land_px = (all_sum - water_px * n_water) / (n - n_water)
+    land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
     water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px)
     edge_px = _edge_points_px(mask, score, threshold)
     edge_en = project_pixels(to_ground, edge_px[:, 0], edge_px[:, 1]) if len(edge_px) else np.zeros((0, 2))
-
-    normal = land_en - water_en
-    if edge_en.shape[0] >= 2:
-        # Principal axis of the edge points (closed form for 2x2) is the tangent; the normal is across it.
-        d = edge_en - edge_en.mean(axis=0)
-        sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
-        axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
-        pca_normal = np.array([-math.sin(axis), math.cos(axis)])
-        normal = pca_normal if float(pca_normal @ normal) >= 0.0 else -pca_normal
-    length = math.hypot(float(normal[0]), float(normal[1]))
-    if length <= 0.0 or not math.isfinite(length):
+    normal = _edge_normal(edge_en, land_en - water_en)
+    if normal is None:
         return PerceptionResult.no_measurement(footprint_m)
-    normal = normal / length
     tangent = np.array([-normal[1], normal[0]])
-
-    if edge_en.shape[0] > 0:
-        edge_en = edge_en[np.argsort(edge_en @ tangent, kind="stable")]
-        k = edge_en.shape[0]
-        if k > max_edge_points > 1:
-            edge_en = edge_en[np.arange(max_edge_points) * (k - 1) // (max_edge_points - 1)]
-
     return PerceptionResult(
         has_edge=True,
-        water_fraction=float(water_fraction),
+        water_fraction=float(n_water / n),
         only_land=False,
         only_water=False,
         footprint_side_m=footprint_m,
@@ -168,12 +140,40 @@ def _perceive(
         land_centroid_en_m=land_en,
         edge_normal_en=normal,
         edge_tangent_en=tangent,
-        edge_points_en_m=edge_en,
+        edge_points_en_m=_along_the_edge(edge_en, tangent, max_edge_points),
         water_centroid_px=water_px,
         land_centroid_px=land_px,
-        ground_sample_m=gsd,
+        ground_sample_m=footprint_m / w,
         water_mask=mask,
     )
+
+
+def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64]) -> NDArray[np.float64] | None:
+    """Unit normal of the edge, from water to land: across the principal axis of the edge points (closed form for
+    2x2), turned towards the land centroid; the centroid line itself when there are too few points."""
+    normal = water_to_land
+    if edge_en.shape[0] >= 2:
+        d = edge_en - edge_en.mean(axis=0)
+        sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
+        axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+        pca_normal = np.array([-math.sin(axis), math.cos(axis)])
+        normal = pca_normal if float(pca_normal @ normal) >= 0.0 else -pca_normal
+    length = math.hypot(float(normal[0]), float(normal[1]))
+    if length <= 0.0 or not math.isfinite(length):
+        return None
+    return normal / length
+
+
+def _along_the_edge(edge_en: NDArray[np.float64], tangent: NDArray[np.float64], max_points: int
+                    ) -> NDArray[np.float64]:
+    """The edge points sorted along the tangent, at most ``max_points`` of them taken evenly."""
+    if edge_en.shape[0] == 0:
+        return edge_en
+    edge_en = edge_en[np.argsort(edge_en @ tangent, kind="stable")]
+    k = edge_en.shape[0]
+    if k > max_points > 1:
+        edge_en = edge_en[np.arange(max_points) * (k - 1) // (max_points - 1)]
+    return edge_en
 
 
 def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], water_px: NDArray[np.float64],

@@ -36,3 +36,19 @@ def test_preview_bad_input_is_one_line_and_exit_2(tmp_path: Path) -> None:
         done = run(*args, "--out", str(tmp_path / "x.png")) if "--out" not in args else run(*args)
         assert done.returncode == 2, (args, done.stderr)
         assert len(done.stderr.strip().splitlines()) == 1, done.stderr
+
+
+def test_preview_set_overrides_like_the_mission_and_names_the_field(tmp_path: Path) -> None:
+    pose = ("--scenario", "circle", "--t", "30", "--east", "16", "--alt", "10")
+    plain, hard = tmp_path / "plain.png", tmp_path / "hard.png"
+    assert run(*pose, "--out", str(plain)).returncode == 0
+    done = run(*pose, "--out", str(hard), "--set", "weather=moderate", "--set", "imaging.turbid_water_probability=1")
+    assert done.returncode == 0, done.stderr
+    a, b = cv2.imread(str(plain)).astype(int), cv2.imread(str(hard)).astype(int)
+    assert np.abs(a - b).mean() > 5.0, "the moderate preset's imaging (turbid water, noise, JPEG) changes the frame"
+    for assignment, field in (("weather=stormy", "weather"), ("imaging.noise_sigma=-1", "imaging.noise_sigma"),
+                              ("flood.radius=3", "flood.radius"), ("imaging", "--set")):
+        done = run(*pose, "--out", str(tmp_path / "x.png"), "--set", assignment)
+        assert done.returncode == 2, (assignment, done.stderr)
+        lines = done.stderr.strip().splitlines()
+        assert len(lines) == 1 and field in lines[0], (assignment, done.stderr)

@@ -111,3 +111,30 @@ def test_stop_leaves_with_a_leaving_message_and_silence_means_no_message() -> No
     assert out.actions[0] is Action.EXIT and state.phases[0] is Phase.DONE
     assert out.state_messages[0] is not None and out.state_messages[0].has(FLAG_LEAVING)
     assert out.state_messages[1] is None
+
+
+def test_a_boundary_drone_holds_its_altitude_on_one_only_land_frame_after_an_edge() -> None:
+    """Algorithm 1 climbs on only land; one such frame right after an edge in view is doubted (no climb), a run of
+    them longer than the hold is believed (climb)."""
+    from vehicle_agents.perception.result import PerceptionResult
+
+    plan = _plan()
+    i = plan.roles.index("boundary")
+    single = OnboardPlan((plan.vehicle_ids[i],), ("boundary",), (plan.pads_en_m[i],), (plan.has_gps[i],),
+                         plan.params, plan.limits)
+    telemetry = _row(_hovering(plan, np.random.default_rng(3)), i)
+    points = np.column_stack([np.full(9, 1.0), np.linspace(-4.0, 4.0, 9)])
+    edge = PerceptionResult(
+        has_edge=True, water_fraction=0.4, only_land=False, only_water=False, footprint_side_m=11.5,
+        midpoint_offset_en_m=np.array([1.0, 0.0]), water_centroid_en_m=np.array([-2.0, 0.0]),
+        land_centroid_en_m=np.array([4.0, 0.0]), edge_normal_en=np.array([1.0, 0.0]),
+        edge_tangent_en=np.array([0.0, 1.0]), edge_points_en_m=points)
+    land = PerceptionResult(has_edge=False, water_fraction=0.0, only_land=True, only_water=False,
+                            footprint_side_m=11.5)
+    state = initial_state(single, Phase.MISSION)
+    out, state = onboard_step(single, state, OnboardInputs(0.0, telemetry, [edge], [Inbox()], [START]))
+    out, state = onboard_step(single, state, OnboardInputs(0.1, telemetry, [land], [Inbox()], [START]))
+    assert out.velocity_setpoint_ned_mps[0, 2] >= 0.0, "one doubtful frame: no climb (NED z up is negative)"
+    assert not state.memories[0].climbing
+    out, state = onboard_step(single, state, OnboardInputs(2.0, telemetry, [land], [Inbox()], [START]))
+    assert out.velocity_setpoint_ned_mps[0, 2] < 0.0 and state.memories[0].climbing, "a lasting one: climb"

@@ -1,0 +1,188 @@
+"""Water that is not blue (silt-laden, under a grey sky or a cloud shadow), told from the land beside it by four
+physical cues, each computed per pixel on the frame after a 3x3 median (which removes sensor noise, JPEG ringing
+and the glint's single-pixel sparkle):
+
+- **chromaticity** ``B / (B + G + R)``: the water's surface mirrors the sky, which adds a grey-blue component to
+  whatever colour the water carries, so it lies above the soil it borders;
+- **saturation** ``(max − min) / (B + G + R)``: for the same reason the water is less saturated;
+- **brightness** (log grey): the mirrored sky makes the water lighter than the soil;
+- **fine texture** (log variance of the log brightness over 3x3 pixels, averaged over 5x5): a water surface is
+  flat, soil and vegetation have texture at the scale of a few centimetres. Taken on the lower envelope of the
+  brightness (each pixel at most its 3x3 median), so bright specks (glint, foam) do not read as texture; the log
+  makes it blind to exposure, shadow and white balance, which scale a region's pixels alike.
+
+The cues are standardised over the frame and summed with fixed signs (water: bluer, less saturated, brighter,
+smoother; texture and chromaticity weighted alike), and the minimum-error threshold of Kittler and Illingworth
+(1986) splits the sum: unlike Otsu's, it does not pull the threshold into the larger class when the water is a
+corner of the frame. A cloud shadow is darker and bluer, so brightness and chromaticity cancel across its edge.
+
+Sun glint is the brightest, whitest and roughest part of the frame and can become a class of its own: when the
+high class is rougher than the low one, it is glint on water, kept as water, and the rest is split again.
+
+The split is accepted when the water class is clearly smoother than the land class and smooth in absolute terms
+(the log variance of a flat surface under the camera's noise); otherwise the frame is one class, water when it is
+that smooth.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+MIN_TEXTURE_CONTRAST = 0.9
+"""The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
+WATER_TEXTURE_MAX = -7.8
+"""Median log variance of the log brightness over 3x3 pixels below which ground is flat enough to be water."""
+COARSE_WATER_TEXTURE_MAX = -3.2
+"""... and whose median log coefficient of variation over 7x7 pixels is below this (a frame of one class)."""
+MIN_SPLIT_FRACTION = 0.005
+"""Each class of an accepted split covers at least this share of the frame."""
+GLINT_ROUNDS = 2
+"""How many times a rougher high class is taken as glint on water and the rest split again."""
+SCORE_SIGNS = np.array([1.0, -1.0, -1.0, 1.0], np.float32)
+"""Signs of the standardised chromaticity, saturation, texture and brightness in the water score."""
+TEXTURE_LEVELS_PER_UNIT = 16.0
+TEXTURE_OFFSET = 16.0
+"""Texture to 8 bits for its histograms: ``(log variance + 16) · 16`` (log variances -16..0; flat ground is near
+-9, soil near -7)."""
+_KERNEL3 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
+_KERNEL5 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
+_SUM_ROW_3 = np.array([[1.0, 1.0, 1.0, 9.0]], np.float32)
+_BLUE_ROW_3 = np.array([[1.0, 0.0, 0.0, 3.0]], np.float32)
+_LEVELS = np.arange(256.0)
+_LEVELS_SQUARED = _LEVELS * _LEVELS
+_LOG_TABLE = np.log(np.arange(256, dtype=np.float32) + 1.0).reshape(1, 256)
+
+
+def cue_stack(image_bgr: NDArray[np.uint8]) -> NDArray[np.float32]:
+    """(H/2, W/2, 4) float32 at half resolution: chromaticity, saturation, fine texture, log brightness (see the
+    module). The texture is taken at full resolution (its scale is the pixel), then every cue is averaged over 2x2
+    pixels and smoothed over 3x3 of those (about 6x6 pixels of the frame)."""
+    smooth = cv2.medianBlur(image_bgr, 3)
+    grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
+    log_envelope = cv2.LUT(cv2.min(grey8, cv2.medianBlur(grey8, 3)), _LOG_TABLE)
+    mean = cv2.blur(log_envelope, (3, 3))
+    square = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
+    texture = cv2.log(cv2.max(cv2.subtract(square, cv2.multiply(mean, mean)), 1e-6))
+    half = (image_bgr.shape[1] // 2, image_bgr.shape[0] // 2)
+    small = cv2.resize(smooth, half, interpolation=cv2.INTER_AREA)
+    small_float = small.astype(np.float32)
+    total = cv2.transform(small_float, _SUM_ROW_3)
+    chromaticity = cv2.divide(cv2.transform(small_float, _BLUE_ROW_3), total)
+    _, hsv_saturation, value = cv2.split(cv2.cvtColor(small, cv2.COLOR_BGR2HSV))
+    spread = cv2.multiply(hsv_saturation, value, scale=1.0 / 255.0, dtype=cv2.CV_32F)  # max − min of B, G, R
+    saturation = cv2.divide(spread, total, dtype=cv2.CV_32F)
+    brightness = cv2.LUT(cv2.cvtColor(small, cv2.COLOR_BGR2GRAY), _LOG_TABLE)
+    cues = cv2.merge([chromaticity, saturation, cv2.resize(texture, half, interpolation=cv2.INTER_AREA), brightness])
+    return cv2.blur(cues, (3, 3))
+
+
+def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] | None = None) -> int | None:
+    """Kittler-Illingworth threshold of an 8-bit image (pixels under ``mask`` only): the level t minimising
+    ``P1 ln(σ1² / P1²) + P2 ln(σ2² / P2²)`` for the classes ≤ t and > t (two Gaussians fitted to the histogram;
+    counts instead of shares only add a constant). None when no split leaves both classes a spread."""
+    hist = cv2.calcHist([score8], [0], mask, [256], [0, 256]).ravel().astype(np.float64)
+    n1 = np.cumsum(hist)
+    total = float(n1[-1])
+    if total <= 0.0:
+        return None
+    sum1 = np.cumsum(hist * _LEVELS)
+    square1 = np.cumsum(hist * _LEVELS_SQUARED)
+    n2, sum2, square2 = total - n1, sum1[-1] - sum1, square1[-1] - square1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        var1 = square1 / n1 - (sum1 / n1) ** 2
+        var2 = square2 / n2 - (sum2 / n2) ** 2
+        cost = n1 * np.log(var1 / (n1 * n1)) + n2 * np.log(var2 / (n2 * n2))
+    cost[~((n1 > 0.002 * total) & (n2 > 0.002 * total) & (var1 > 0.5) & (var2 > 0.5))] = np.inf
+    level = int(np.argmin(cost))
+    return level if math.isfinite(cost[level]) else None
+
+
+def _score8(score: NDArray[np.float32], keep: NDArray[np.uint8] | None) -> NDArray[np.uint8]:
+    """The score stretched to 8 bits over the pixels kept (the others clip), lightly smoothed."""
+    low, high, _, _ = cv2.minMaxLoc(score, mask=keep)
+    scale = 255.0 / max(high - low, 1e-6)
+    return cv2.blur(cv2.convertScaleAbs(score, alpha=scale, beta=-low * scale), (3, 3))
+
+
+def _texture_medians(texture8: NDArray[np.uint8], high: NDArray[np.uint8]) -> tuple[float, float, float]:
+    """Median texture [log variance] of the high class, of the low class and of the whole frame, from 8-bit
+    histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance)."""
+    high_hist = cv2.calcHist([texture8], [0], high, [256], [0, 256]).ravel()
+    all_hist = cv2.calcHist([texture8], [0], None, [256], [0, 256]).ravel()
+    medians = []
+    for hist in (high_hist, all_hist - high_hist, all_hist):
+        cumulative = np.cumsum(hist)
+        level = int(np.searchsorted(cumulative, 0.5 * cumulative[-1])) if cumulative[-1] > 0 else 255
+        medians.append(level / TEXTURE_LEVELS_PER_UNIT - TEXTURE_OFFSET)
+    return medians[0], medians[1], medians[2]
+
+
+def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[NDArray[np.uint8], int | None]:
+    """(8-bit score, threshold or None): the minimum-error split, with glint taken out of it. A high class rougher
+    than the low one is glint; the score is stretched again over the rest (so the glint saturates at 255 and stays
+    on the water side) and split again."""
+    score8 = _score8(score, None)
+    threshold = minimum_error_threshold(score8)
+    for _ in range(GLINT_ROUNDS):
+        if threshold is None:
+            break
+        high = cv2.compare(score8, threshold, cv2.CMP_GT)
+        n_high = cv2.countNonZero(high)
+        if n_high == 0 or n_high > 0.95 * high.size:
+            break
+        low = cv2.bitwise_not(high)
+        if cv2.mean(texture, mask=high)[0] <= cv2.mean(texture, mask=low)[0]:
+            break
+        stretched = _score8(score, low)
+        found = minimum_error_threshold(stretched, low)
+        if found is None:
+            break
+        score8, threshold = stretched, found
+    return score8, threshold
+
+
+def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
+    """(water mask or None for a one-class frame, 8-bit score, threshold) for a valid (H, W, 3) uint8 image; a
+    one-class frame's threshold puts the frame's mean score above it when the frame is water. The split is found at
+    half resolution; the mask is the full-resolution (bilinear) score over the same threshold."""
+    cues = cue_stack(image_bgr)
+    mean, std = cv2.meanStdDev(cues)
+    weights = SCORE_SIGNS / (std.ravel().astype(np.float32) + 1e-9)
+    matrix = np.empty((1, 5), np.float32)
+    matrix[0, :4] = weights
+    matrix[0, 4] = -float(weights @ mean.ravel().astype(np.float32))
+    score = cv2.transform(cues, matrix)
+    texture = np.ascontiguousarray(cues[..., 2])
+    score8, threshold = _split(score, texture)
+    texture8 = cv2.convertScaleAbs(texture, alpha=TEXTURE_LEVELS_PER_UNIT, beta=TEXTURE_OFFSET * TEXTURE_LEVELS_PER_UNIT)
+    full = cv2.resize(score8, (image_bgr.shape[1], image_bgr.shape[0]), interpolation=cv2.INTER_LINEAR)
+    high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
+    water_tex, land_tex, frame_tex = _texture_medians(texture8, high)
+    if threshold is not None:
+        water = cv2.morphologyEx(cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1), cv2.MORPH_OPEN, _KERNEL3)
+        water = cv2.morphologyEx(water, cv2.MORPH_CLOSE, _KERNEL5)
+        fraction = cv2.countNonZero(water) / water.size
+        inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION
+        if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
+            return water.view(bool), full, threshold + 0.5
+        if not inside:
+            frame_tex = water_tex if fraction > 0.5 else land_tex
+    mean_score = float(cv2.mean(full)[0])
+    water = frame_tex < WATER_TEXTURE_MAX and coarse_texture(image_bgr) < COARSE_WATER_TEXTURE_MAX
+    return None, full, mean_score - 1.0 if water else mean_score + 1.0
+
+
+def coarse_texture(image_bgr: NDArray[np.uint8]) -> float:
+    """Median log coefficient of variation of the brightness over 7x7 windows, on its lower envelope (each pixel at
+    most its 3x3 median, so glint and foam specks do not count): land seen from close up (its fine texture blurred
+    over several pixels) still has patches at this scale; water has none."""
+    grey8 = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)
+    grey = cv2.min(grey8, cv2.medianBlur(grey8, 3)).astype(np.float32)
+    mean = cv2.blur(grey, (7, 7))
+    variance = cv2.max(cv2.subtract(cv2.sqrBoxFilter(grey, cv2.CV_32F, (7, 7)), cv2.multiply(mean, mean)), 0.25)
+    log_cv = cv2.subtract(cv2.multiply(cv2.log(variance), 0.5), cv2.log(mean + 1.0))
+    return float(np.median(log_cv[::2, ::2]))
