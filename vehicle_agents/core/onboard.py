@@ -164,13 +164,9 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         actions.append(action)
         vid = plan.vehicle_ids[i]
         inbox = inputs.inbox[i] if inputs.inbox else EMPTY_INBOX
-        if params.relay_max_hops > 0 and inbox.states:
-            states, refused = admitted(unpacked(inbox.states), heard[i], t_s, params.state_rate_hz)
-            inbox = replace(inbox, states=states)
-            refused_copies[i] += refused
-        heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, timeout_s)
-        if noise is not None:
-            tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
+        heard[i], departed[i], tracks[i], refused = _hear(inbox, heard[i], departed[i], tracks[i], vid, t_s,
+                                                          timeout_s, noise, params)
+        refused_copies[i] += refused
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         perception, trust[i] = trusted_result(inputs.perception[i], own.position_en_m, t_s, trust[i])
         if action is Action.FLY:
@@ -195,6 +191,21 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
                         departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks), trust=tuple(trust),
                         refused_copies=tuple(refused_copies))
     return outputs, new_state
+
+
+def _hear(inbox: Inbox, heard: Mapping[int, HeardState], departed: frozenset[int], track: TrackBank, vehicle_id: int,
+          t_s: float, timeout_s: float, noise: FilterNoise | None, params: ControlParams
+          ) -> tuple[Mapping[int, HeardState], frozenset[int], TrackBank, int]:
+    """File one drone's inbox: relayed copies admitted (impossible ones refused and counted), then the neighbour
+    table and, when the filter is on, its tracks; returns them with the count refused."""
+    refused = 0
+    if params.relay_max_hops > 0 and inbox.states:
+        states, refused = admitted(unpacked(inbox.states), heard, t_s, params.state_rate_hz)
+        inbox = replace(inbox, states=states)
+    heard, departed = heard_after(heard, departed, inbox, vehicle_id, t_s, timeout_s)
+    if noise is not None:
+        track = track_step(track, inbox.states, departed, vehicle_id, noise)
+    return heard, departed, track, refused
 
 
 def _neighbour_infos(table: Mapping[int, HeardState], track: TrackBank, t_s: float, noise: FilterNoise | None,
