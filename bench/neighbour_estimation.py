@@ -50,14 +50,13 @@ def run(n: int, steps: int) -> dict[str, float]:
     for k in range(steps):
         inbox = Inbox(states=states_at(n, k))
         t_s = k * DT_S + 0.1
-        cache: dict = {}
         for i in range(n):
             tables[i], _ = heard_after(tables[i], frozenset(), inbox, i + 1, t_s, 10.0)
             c0 = time.process_time()
             [neighbour_info(m, t_s - m.t_s) for _, m in sorted(tables[i].items())]
             c1 = time.process_time()
             banks[i] = track_step(banks[i], inbox.states, frozenset(), i + 1, noise)
-            banks[i], _ = filtered_infos(banks[i], tables[i], t_s, noise, cache)
+            banks[i], _ = filtered_infos(banks[i], tables[i], t_s, noise)
             c2 = time.process_time()
             relay_copies(tables[i], i + 1, t_s, k + 1, params.relay_max_hops, params.relay_max_age_s,
                          params.relay_budget_bytes)

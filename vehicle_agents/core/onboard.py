@@ -143,7 +143,6 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     yaws = np.zeros(n)
     messages: list[NeighbourState | None] = []
     converted: dict[int, NeighbourInfo] = {}
-    filtered_cache: dict[int, NeighbourInfo] = {}
     for i in range(n):
         tel = inputs.telemetry.vehicle(i)
         order = inputs.orders[i]
@@ -161,7 +160,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         if action is Action.FLY:
-            tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted, filtered_cache)
+            tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
             start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
             velocity, memories[i] = control_step(plan.roles[i], memories[i], own, inputs.perception[i], infos, params,
                                                  max(0.0, t_s - start_s))
@@ -184,12 +183,11 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
 
 
 def _neighbour_infos(table: Mapping[int, HeardState], track: TrackBank, t_s: float, noise: FilterNoise | None,
-                     converted: dict[int, NeighbourInfo],
-                     filtered_cache: dict[int, NeighbourInfo]) -> tuple[TrackBank, list[NeighbourInfo]]:
+                     converted: dict[int, NeighbourInfo]) -> tuple[TrackBank, list[NeighbourInfo]]:
     """What the laws read of the neighbours: the filtered estimates at ``t_s`` when the neighbour filter is on,
     else the last message heard from each (converted once per message and shared across the fleet's drones)."""
     if noise is not None:
-        return filtered_infos(track, table, t_s, noise, filtered_cache)
+        return filtered_infos(track, table, t_s, noise)
     infos = []
     for sender in sorted(table):
         msg = table[sender]
