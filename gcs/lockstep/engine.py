@@ -64,6 +64,8 @@ from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import perceive
 
 
+_STARTED = GroundOrder(Command.START, 0.0, 0.0)
+_WAITING = GroundOrder(None, 0.0, 0.0)
 _REQUESTS = {
     Action.ARM: VehicleRequest.ARM,
     Action.TAKEOFF: VehicleRequest.TAKEOFF,
@@ -192,6 +194,149 @@ def _onboard_plan(scenario: Scenario, params: ControlParams
     return plan, pads, gps
 
 
+@dataclass
+class _Cameras:
+    """The fleet's cameras: who carries one, when the next frame is due (``[camera] rate_hz``), and each drone's newest
+    perception result, which it keeps between frames as an agent does."""
+
+    flood: FloodModel
+    model: CameraModel
+    scenario: Scenario
+    seed: int
+    carriers: list[int]
+    perceptions: list[PerceptionResult | None]
+    next_frame_t_s: float = 0.0
+    frames: int = 0
+
+    def capture(self, t_s: float, state: BackendState, positions_enu_m: NDArray[np.float64],
+                velocity_ned_mps: NDArray[np.float64], tilts_rad: NDArray[np.float64]) -> None:
+        """Render and perceive every living carrier's frame when one is due."""
+        if not slot_reached(self.next_frame_t_s, t_s):
+            return
+        self.next_frame_t_s = next_slot_s(self.next_frame_t_s, 1.0 / self.scenario.camera.rate_hz, t_s)
+        wind = mean_wind_en_mps(self.scenario)
+        for i in (i for i in self.carriers if state.alive[i]):
+            pose = CameraPose(tilt_rad=(float(tilts_rad[i, 0]), float(tilts_rad[i, 1])),
+                              vehicle_id=self.scenario.vehicles[i].vehicle_id,
+                              velocity_en_mps=(float(velocity_ned_mps[i, 1]), float(velocity_ned_mps[i, 0])),
+                              wind_en_mps=wind)
+            self.perceptions[i] = _perception_for(self.flood, t_s, positions_enu_m[i], self.model, self.seed, pose,
+                                                  self.scenario.imaging, float(state.yaw_ned_rad[i]),
+                                                  float(state.reported_yaw_ned_rad[i]))
+            self.frames += 1
+
+
+@dataclass
+class _GroundPolygon:
+    """The ground station's caged polygon, rebuilt every ``polygon_period_s`` from the states it holds, georeferenced
+    by the leader's GPS report as in the processes engine."""
+
+    scenario: Scenario
+    ring_order: list[int]
+    leader_id: int | None
+    max_report_age_s: float
+    samples: list[PolygonSample]
+    next_t_s: float = 0.0
+
+    def sample(self, t_s: float, heard: dict[int, NeighbourState]) -> None:
+        if not (slot_reached(self.next_t_s, t_s) and self.ring_order):
+            return
+        leader = heard.get(self.leader_id) if self.leader_id is not None else None
+        ring = aggregate_polygon(heard, self.ring_order, georeference_offset_en_m(leader, self.scenario.home), t_s,
+                                 self.max_report_age_s)
+        self.samples.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
+        self.next_t_s = next_slot_s(self.next_t_s, self.scenario.polygon_period_s, t_s)
+
+
+class _LockstepRun:
+    """One run's world and its progress: the fleet's backend, the onboard core, the radio, the cameras, the ground
+    station's polygon and the trace, advanced one control step at a time by :meth:`step`."""
+
+    def __init__(self, scenario: Scenario, mode: str, seed: int, params: ControlParams, cameras: str,
+                 backend: BackendKind, steps: int) -> None:
+        self.scenario, self.mode, self.seed, self.params, self.backend = scenario, mode, seed, params, backend
+        self.flood = flood_model_from_config(scenario.flood, seed=seed, base_dir=scenario.source_dir)
+        vehicles = scenario.vehicles
+        self.plan, self.pads, self.gps = _onboard_plan(scenario, params)
+        self.ids = list(self.plan.vehicle_ids)
+        self.delays_s = start_delays_s(tuple(self.ids), scenario.start_jitter_s, seed)
+        self.core = initial_state(self.plan, Phase.STANDBY if any(self.delays_s) else Phase.MISSION)
+        self.dt_s = 1.0 / scenario.control_rate_hz
+        self.radio = InMemoryRadio(
+            radio_model_of(scenario.radio, seed),
+            [*self.ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else self.ids,
+        )
+        self.ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(self.pads))
+        self.fleet = make_backend(backend, scenario, seed)
+        self.state = self.fleet.hover_start(scenario.altitude_m)
+        self.boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
+        self.cameras = _Cameras(
+            self.flood, CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg),
+            scenario, seed, [i for i, v in enumerate(vehicles) if cameras == "all" or v.role == ROLE_BOUNDARY],
+            [None] * len(vehicles))
+        self.polygon = _GroundPolygon(
+            scenario, params.ring_order(),
+            next((v.vehicle_id for v in vehicles if v.role == ROLE_LEADER and v.has_gps), None),
+            report_max_age_s(scenario.control_rate_hz), [])
+        self.gcs_heard: dict[int, NeighbourState] = {}
+        self.trace = _Trace.empty(steps + 1, len(vehicles))
+        self.encircle_time_s: float | None = None
+        self.events = [(0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {len(vehicles)} vehicles, "
+                             f"backend {backend.value}")]
+        self.previous_velocity_ned = np.array(self.state.velocity_ned_mps, dtype=float)
+
+    def _tilts_rad(self, velocity_ned_mps: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The bodies' (roll, pitch): the backend's own where it models attitude, else from the acceleration."""
+        state = self.state
+        if state.roll_rad is not None:
+            return np.stack(state.tilt_rad, axis=-1)
+        acceleration = (velocity_ned_mps - self.previous_velocity_ned) / self.dt_s
+        return tilt_from_acceleration_rad(acceleration, state.yaw_ned_rad)
+
+    def step(self, k: int, last: bool) -> None:
+        """Control step ``k`` (numbered steps 1-6 in the module doc); the backend moves unless it is the ``last``."""
+        t_s = k * self.dt_s
+        state, n = self.state, len(self.ids)
+        positions = local_ned_to_mission_enu(state.position_ned_m, self.pads)
+        positions[~state.alive] = np.nan
+        inboxes = self.radio.deliver(t_s)
+        if self.ground is not None:
+            self.ground.hear(inboxes[n].states, t_s)
+            inboxes = inboxes[:n]
+        velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
+        tilts = self._tilts_rad(velocity_ned)
+        self.previous_velocity_ned = velocity_ned
+        self.cameras.capture(t_s, state, positions, velocity_ned, tilts)
+        orders = tuple(_STARTED if t_s >= delay - 1e-9 else _WAITING for delay in self.delays_s)
+        inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, self.pads, self.gps, self.scenario),
+                               perception=self.cameras.perceptions, inbox=inboxes, orders=orders)
+        outputs, self.core = onboard_step(self.plan, self.core, inputs)
+        self.gcs_heard = _broadcast(self.radio, self.ground, t_s, positions, outputs.state_messages, self.gcs_heard)
+        sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)
+        self.trace.add(k, t_s, positions, outputs.velocity_setpoint_ned_mps, sent, state.alive, self.cameras.model)
+        if self.encircle_time_s is None and any(self.core.memories[i].encircled for i in self.boundary_idx):
+            self.encircle_time_s = t_s
+            self.events.append((t_s, "encircling complete: the two groups' leading drones met"))
+        self.polygon.sample(t_s, self.gcs_heard)
+        if not last:
+            requests = [_REQUESTS.get(a, VehicleRequest.NONE) for a in outputs.actions]
+            self.state = self.fleet.step(outputs.velocity_setpoint_ned_mps, outputs.yaw_ned_rad, sent, requests,
+                                         self.dt_s)
+
+    def result(self, steps: int, wall_s: float, cpu_s: float) -> LockstepResult:
+        self.events.append((steps * self.dt_s, f"lockstep end after {wall_s:.2f} s wall"))
+        trace, vehicles = self.trace, self.scenario.vehicles
+        record = MissionRecord(
+            scenario=self.scenario.name, mode=self.mode, engine="lockstep", seed=self.seed, vehicle_ids=self.ids,
+            roles=[v.role for v in vehicles], t_s=trace.t_s, positions_enu_m=trace.positions_enu_m,
+            commands_enu_mps=trace.commands_enu_mps, footprint_side_m=trace.footprint_side_m, alive=trace.alive,
+            polygons=self.polygon.samples, encircle_time_s=self.encircle_time_s,
+            climb_events=[m.climb_events for m in self.core.memories], events=self.events,
+        )
+        return LockstepResult(record, self.flood, self.params, wall_s, cpu_s, steps, self.cameras.frames,
+                              self.radio.heard_total, self.radio.lost_total, self.radio.bytes_sent)
+
+
 def run_lockstep(
     scenario: Scenario,
     mode: str = ControlMode.PAPER,
@@ -213,97 +358,12 @@ def run_lockstep(
     seed = scenario.seed if seed is None else seed
     duration_s = scenario.duration_s if duration_s is None else duration_s
     params = control_params if control_params is not None else scenario.control_params(mode)
-    flood = flood_model_from_config(scenario.flood, seed=seed, base_dir=scenario.source_dir)
-    camera = CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg)
-    vehicles = scenario.vehicles
-    n = len(vehicles)
-    plan, pads, gps = _onboard_plan(scenario, params)
-    ids = list(plan.vehicle_ids)
-    delays_s = start_delays_s(tuple(ids), scenario.start_jitter_s, seed)
-    core = initial_state(plan, Phase.STANDBY if any(delays_s) else Phase.MISSION)
-    started = GroundOrder(Command.START, 0.0, 0.0)
-    waiting = GroundOrder(None, 0.0, 0.0)
-    dt_s = 1.0 / scenario.control_rate_hz
-    steps = int(math.floor(duration_s / dt_s + 1e-9))
-    radio = InMemoryRadio(
-        radio_model_of(scenario.radio, seed),
-        [*ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else ids,
-    )
-    ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(pads))
-    fleet = make_backend(backend, scenario, seed)
-    state = fleet.hover_start(scenario.altitude_m)
-    boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]
-    camera_idx = [i for i, v in enumerate(vehicles) if cameras == "all" or v.role == ROLE_BOUNDARY]
-    ring_order = params.ring_order()
-    leader_id = next((v.vehicle_id for v in vehicles if v.role == ROLE_LEADER and v.has_gps), None)
-    gcs_heard: dict[int, NeighbourState] = {}
-    max_report_age_s = report_max_age_s(scenario.control_rate_hz)
-
-    trace = _Trace.empty(steps + 1, n)
-    polygons: list[PolygonSample] = []
-    encircle_time_s: float | None = None
-    events = [(0.0, f"lockstep start: {scenario.name}, mode {mode}, seed {seed}, {n} vehicles, backend {backend.value}")]
-    next_polygon_t = next_frame_t = 0.0
-    frame_period_s = 1.0 / scenario.camera.rate_hz
-    perceptions: list[PerceptionResult | None] = [None] * n
-    frames = 0
-    wind = mean_wind_en_mps(scenario)
-    previous_velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
+    steps = int(math.floor(duration_s / (1.0 / scenario.control_rate_hz) + 1e-9))
+    run = _LockstepRun(scenario, mode, seed, params, cameras, backend, steps)
     wall_start = time.perf_counter()
     cpu_start = time.process_time()
-
     for k in range(steps + 1):
-        t_s = k * dt_s
-        positions = local_ned_to_mission_enu(state.position_ned_m, pads)
-        positions[~state.alive] = np.nan
-        inboxes = radio.deliver(t_s)
-        if ground is not None:
-            ground.hear(inboxes[n].states, t_s)
-            inboxes = inboxes[:n]
-        velocity_ned = np.array(state.velocity_ned_mps, dtype=float)
-        tilts = (np.stack(state.tilt_rad, axis=-1) if state.roll_rad is not None
-                 else tilt_from_acceleration_rad((velocity_ned - previous_velocity_ned) / dt_s, state.yaw_ned_rad))
-        previous_velocity_ned = velocity_ned
-        if slot_reached(next_frame_t, t_s):
-            next_frame_t = next_slot_s(next_frame_t, frame_period_s, t_s)
-            for i in (i for i in camera_idx if state.alive[i]):
-                pose = CameraPose(tilt_rad=(float(tilts[i, 0]), float(tilts[i, 1])), vehicle_id=ids[i],
-                                  velocity_en_mps=(float(velocity_ned[i, 1]), float(velocity_ned[i, 0])),
-                                  wind_en_mps=wind)
-                perceptions[i] = _perception_for(flood, t_s, positions[i], camera, seed, pose, scenario.imaging,
-                                                 float(state.yaw_ned_rad[i]), float(state.reported_yaw_ned_rad[i]))
-                frames += 1
-        orders = tuple(started if t_s >= delay - 1e-9 else waiting for delay in delays_s)
-        inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, pads, gps, scenario),
-                               perception=perceptions, inbox=inboxes, orders=orders)
-        outputs, core = onboard_step(plan, core, inputs)
-        gcs_heard = _broadcast(radio, ground, t_s, positions, outputs.state_messages, gcs_heard)
-        sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)
-        trace.add(k, t_s, positions, outputs.velocity_setpoint_ned_mps, sent, state.alive, camera)
-        if encircle_time_s is None and any(core.memories[i].encircled for i in boundary_idx):
-            encircle_time_s = t_s
-            events.append((t_s, "encircling complete: the two groups' leading drones met"))
-        if slot_reached(next_polygon_t, t_s) and ring_order:
-            leader = gcs_heard.get(leader_id) if leader_id is not None else None
-            ring = aggregate_polygon(gcs_heard, ring_order, georeference_offset_en_m(leader, scenario.home), t_s,
-                                     max_report_age_s)
-            polygons.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
-            next_polygon_t = next_slot_s(next_polygon_t, scenario.polygon_period_s, t_s)
-        if k < steps:
-            requests = [_REQUESTS.get(a, VehicleRequest.NONE) for a in outputs.actions]
-            state = fleet.step(outputs.velocity_setpoint_ned_mps, outputs.yaw_ned_rad, sent, requests, dt_s)
+        run.step(k, last=k == steps)
         if progress is not None:
-            progress(t_s)
-
-    wall_s = time.perf_counter() - wall_start
-    cpu_s = time.process_time() - cpu_start
-    events.append((steps * dt_s, f"lockstep end after {wall_s:.2f} s wall"))
-    record = MissionRecord(
-        scenario=scenario.name, mode=mode, engine="lockstep", seed=seed, vehicle_ids=ids,
-        roles=[v.role for v in vehicles], t_s=trace.t_s, positions_enu_m=trace.positions_enu_m,
-        commands_enu_mps=trace.commands_enu_mps, footprint_side_m=trace.footprint_side_m, alive=trace.alive,
-        polygons=polygons, encircle_time_s=encircle_time_s, climb_events=[m.climb_events for m in core.memories],
-        events=events,
-    )
-    return LockstepResult(record, flood, params, wall_s, cpu_s, steps, frames, radio.heard_total, radio.lost_total,
-                          radio.bytes_sent)
+            progress(k * run.dt_s)
+    return run.result(steps, time.perf_counter() - wall_start, time.process_time() - cpu_start)

@@ -72,37 +72,18 @@ def compute_mission_metrics(
     paths = path_lengths_m(pos, alive)
     speed = speeds_mps(t, pos, alive)
     climbs_truth = climb_events_from_altitude(pos[..., 2], alive)
-    climbs_engine = list(record.climb_events) if len(record.climb_events) == n_v else [None] * n_v
-    boundary_speed = speed[:, boundary] if len(boundary) else np.zeros((0, 0))
 
-    ring_closed = ring_closed_time_s(t, edge["max_gap_ratio"])
     summary: dict[str, Any] = {
-        "duration_s": float(t[-1] - t[0]) if n_t else 0.0,
-        "samples": n_t,
-        "vehicles": n_v,
-        "boundary_vehicles": int(len(boundary)),
-        "encircle_time_s": record.encircle_time_s if record.encircle_time_s is not None else ring_closed,
-        "encircle_time_source": "engine" if record.encircle_time_s is not None else "truth (ring closed)",
-        "ring_closed_time_s": ring_closed,
+        **_timing_summary(record, t, len(boundary), edge["max_gap_ratio"]),
         **_edge_summary(edge, last),
         **_polygon_and_coverage_summary(poly, cov),
-        "flood_area_final_m2": float(flood.area_m2(float(t[-1]))) if n_t else math.nan,
-        **(flood_extent_summary(flood, float(t[0]), float(t[-1])) if n_t else {}),
+        **_flood_summary(flood, t),
         "leader_centring_error_final_m": _final(centring),
         "leader_centring_error_last_10s_mean_m": _nanmean(centring[last]),
         **_safety_summary(record.vehicle_ids, safety),
         "losses": len(losses),
-        "path_length_total_m": float(paths.sum()),
-        "path_length_mean_m": float(paths.mean()) if n_v else math.nan,
-        "boundary_speed_mean_mps": _nanmean(boundary_speed),
-        "boundary_speed_max_mps": max_m(boundary_speed),
-        "climb_events_total": int(sum(record.climb_events)) if len(record.climb_events) == n_v else None,
-        "climb_events_truth_total": int(climbs_truth.sum()),
+        **_motion_summary(record, paths, speed[:, boundary] if len(boundary) else np.zeros((0, 0)), climbs_truth),
     }
-    per_vehicle = _per_vehicle(record, paths, speed, climbs_engine, climbs_truth, alive)
-    series = {"t_s": t, "tracking_rms_m": edge["rms"], "tracking_max_m": edge["max"], "spacing_cv": edge["spacing_cv"],
-              "max_gap_ratio": edge["max_gap_ratio"], "leader_centring_error_m": centring,
-              "min_pairwise_distance_m": safety.min_distance_series_m, "alive": alive.sum(axis=1)}
     return _jsonable({
         "schema": SCHEMA, "scenario": record.scenario, "mode": record.mode, "engine": record.engine,
         "seed": record.seed, "camera_fov_deg": camera_fov_deg,
@@ -111,12 +92,52 @@ def compute_mission_metrics(
         "summary": summary,
         "losses": losses,
         "near_miss_pairs": [[record.vehicle_ids[i], record.vehicle_ids[j]] for i, j in safety.near_miss_pairs],
-        "per_vehicle": per_vehicle,
-        "series": series,
+        "per_vehicle": _per_vehicle(record, paths, speed, climbs_truth, alive),
+        "series": {"t_s": t, "tracking_rms_m": edge["rms"], "tracking_max_m": edge["max"],
+                   "spacing_cv": edge["spacing_cv"], "max_gap_ratio": edge["max_gap_ratio"],
+                   "leader_centring_error_m": centring, "min_pairwise_distance_m": safety.min_distance_series_m,
+                   "alive": alive.sum(axis=1)},
         "coverage_series": {k: cov[k] for k in ("t_s", "coverage", "upper_bound", "overlap_efficiency",
                                                  "flood_area_m2", "drone_ring_iou")},
         "polygon_series": {k: poly[k] for k in ("t_s", "iou", "hausdorff_m", "area_m2", "perimeter_m")},
     })
+
+
+def _timing_summary(record: MissionRecord, t_s: NDArray[np.float64], boundary_vehicles: int,
+                    max_gap_ratio: NDArray[np.float64]) -> dict[str, Any]:
+    """The run's length and when the ring closed: the engine's encircling time when it reports one, else the time
+    the truth shows the ring closed (the paper's T_enc)."""
+    ring_closed = ring_closed_time_s(t_s, max_gap_ratio)
+    return {
+        "duration_s": float(t_s[-1] - t_s[0]) if len(t_s) else 0.0, "samples": len(t_s),
+        "vehicles": len(record.vehicle_ids), "boundary_vehicles": boundary_vehicles,
+        "encircle_time_s": record.encircle_time_s if record.encircle_time_s is not None else ring_closed,
+        "encircle_time_source": "engine" if record.encircle_time_s is not None else "truth (ring closed)",
+        "ring_closed_time_s": ring_closed,
+    }
+
+
+def _flood_summary(flood: FloodModel, t_s: NDArray[np.float64]) -> dict[str, Any]:
+    """The flood's final area and, for floods with several wet parts, the caged part against the whole."""
+    if not len(t_s):
+        return {"flood_area_final_m2": math.nan}
+    return {"flood_area_final_m2": float(flood.area_m2(float(t_s[-1]))),
+            **flood_extent_summary(flood, float(t_s[0]), float(t_s[-1]))}
+
+
+def _motion_summary(record: MissionRecord, paths_m: NDArray[np.float64], boundary_speed_mps: NDArray[np.float64],
+                    climbs_truth: NDArray[np.int_]) -> dict[str, Any]:
+    """How far and fast the fleet flew, and how often it climbed (SPEC's search behaviour), by the engine's count
+    and by the altitude truth."""
+    n_v = len(record.vehicle_ids)
+    return {
+        "path_length_total_m": float(paths_m.sum()),
+        "path_length_mean_m": float(paths_m.mean()) if n_v else math.nan,
+        "boundary_speed_mean_mps": _nanmean(boundary_speed_mps),
+        "boundary_speed_max_mps": max_m(boundary_speed_mps),
+        "climb_events_total": int(sum(record.climb_events)) if len(record.climb_events) == n_v else None,
+        "climb_events_truth_total": int(climbs_truth.sum()),
+    }
 
 
 def _edge_summary(edge: Mapping[str, NDArray[np.float64]], last: NDArray[np.bool_]) -> dict[str, float]:
@@ -174,8 +195,10 @@ def _losses(record: MissionRecord, t: NDArray[np.float64], alive: NDArray[np.boo
 
 
 def _per_vehicle(record: MissionRecord, paths: NDArray[np.float64], speed: NDArray[np.float64],
-                 climbs_engine: list[Any], climbs_truth: NDArray[np.int_], alive: NDArray[np.bool_]) -> dict[str, Any]:
+                 climbs_truth: NDArray[np.int_], alive: NDArray[np.bool_]) -> dict[str, Any]:
     """Each vehicle's path, speeds, Algorithm 1 climbs (engine and truth) and whether it flew to the end."""
+    n_v = len(record.vehicle_ids)
+    climbs_engine = list(record.climb_events) if len(record.climb_events) == n_v else [None] * n_v
     return {
         str(vid): {
             "role": record.roles[i],

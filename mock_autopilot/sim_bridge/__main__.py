@@ -19,6 +19,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
@@ -27,14 +28,14 @@ import numpy as np
 from comms.cli_args import add_zenoh_arguments, zenoh_config_from_args
 from comms.keys import KeyNameError, validate_mission
 from comms.px4 import Px4Mode
-from comms.zenoh_session import ZenohOpenError, ZenohSession
+from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 from mission_plan.plan_files import PlanFileError, plan_or_scenario
 from mission_plan.plans import FleetPlan, fleet_plan
 from mission_plan.roles import Role
 from mission_plan.table_fields import ScenarioError
 from mock_autopilot.backends.px4 import px4_vehicle_configs
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.faults import FaultSpecError, parse_fault
+from mock_autopilot.faults import FaultSpec, FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet, FleetTruth
 from mock_autopilot.pacing import Pacer
 from mock_autopilot.px4_streams import DEFAULT_PROFILE
@@ -120,40 +121,115 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+@dataclass(frozen=True)
+class _Setup:
+    """The command line checked against the plan: everything :func:`main` needs before it binds a port."""
+
+    plan: FleetPlan
+    mission: str
+    zenoh: ZenohConfig
+    faults: list[FaultSpec]
+    camera_hz: float
+    truth_hz: float
+    flood: FloodModel
+
+
+def _setup(args: argparse.Namespace) -> _Setup:
+    """Load the plan and check the options; every failure is a ``ValueError`` (or a plan/scenario error) that
+    :func:`main` turns into exit 2."""
+    plan = load_fleet_plan(args.plan, args.scenario, args.overrides)
+    mission = validate_mission(args.mission or plan.mission)
+    zenoh = zenoh_config_from_args(args)
+    faults = [parse_fault(text) for text in args.fault]
+    if not args.speed > 0:
+        raise ValueError(f"--speed {args.speed}: must be > 0")
+    if not args.agent_timeout_s > 0:
+        raise ValueError(f"--agent-timeout-s {args.agent_timeout_s}: must be > 0")
+    if args.clock == "paced" and args.cameras != "none":
+        raise ValueError("--clock paced: run the cameras in their own process (--cameras none)")
+    camera_hz = args.camera_hz or plan.camera.rate_hz
+    truth_hz = args.truth_hz or plan.control_rate_hz
+    if not (camera_hz > 0 and truth_hz > 0):
+        raise ValueError("--camera-hz and --truth-hz must be > 0")
+    world = plan.world
+    # The cameras render the flood and the rangefinders measure its ground (flat but for the hydro model).
+    flood = flood_model_from_config(world.flood, seed=world.seed, base_dir=world.source_dir)
+    return _Setup(plan, mission, zenoh, faults, camera_hz, truth_hz, flood)
+
+
+def _serve(args: argparse.Namespace, setup: _Setup, fleet: Fleet, pacer: Pacer, session: ZenohSession,
+           stop: threading.Event) -> None:
+    """Publish truth (and camera frames, unless another process streams them) until ``stop``; the paced clock's
+    keeper publishes truth at each released tick, the free clock on the bridge's own schedule."""
+    plan, flood = setup.plan, setup.flood
+    streamer = None
+    if args.cameras != "none":
+        camera = CameraModel(plan.camera.width_px, plan.camera.height_px, plan.camera.fov_deg)
+        streamer = CameraStreamer(
+            session, setup.mission, flood, camera, plan.seed, 1.0 / setup.camera_hz,
+            camera_users({v.vehicle_id: v.role for v in plan.vehicles}, args.cameras),
+            on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
+    bridge = SimBridge(session, setup.mission, 1.0 / setup.truth_hz, streamer)
+    setpoint_ages_s: list[float] = []
+
+    def publish_truth(t_s: float) -> None:
+        truth = fleet.truth()
+        set_ground_below(fleet, truth, flood)
+        bridge.publish_truth(t_s, vehicle_truths(truth, fleet))
+        setpoint_ages_s.extend(setpoint_ages(fleet, truth, t_s))
+
+    keeper = PaceKeeper(session, setup.mission, pacer, fleet.clock.now_s, lambda: fleet.last_tick_t_s,
+                        fleet.set_gate, publish_truth)
+    log.info("fleet of %d vehicles up (speed x%g, %s clock), bridge publishing on floodwatch/%s",
+             len(plan.vehicles), args.speed, args.clock, setup.mission)
+    while not stop.is_set():
+        keeper.poll()
+        if pacer.paced:
+            keeper.wait(keeper.next_wait_s())
+            continue
+        now_s = fleet.clock.now_s()
+        truth = fleet.truth()
+        set_ground_below(fleet, truth, flood)
+        bridge.tick(now_s, vehicle_truths(truth, fleet))
+        setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
+        wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
+        stop.wait(min(wait_s, 0.05))
+    _log_summary(keeper, bridge, streamer, setpoint_ages_s)
+
+
+def _log_summary(keeper: PaceKeeper, bridge: SimBridge, streamer: CameraStreamer | None,
+                 setpoint_ages_s: list[float]) -> None:
+    """The clock's achieved factor, what the bridge sent, and the setpoint age PX4's offboard watchdog saw."""
+    final = keeper.report()
+    log.info("clock: %.1f s simulated in %.1f s wall (%.2fx real time, %s), held %.1f s waiting",
+             final.t_s, final.wall_s, final.real_time_factor, "paced" if final.paced else "free",
+             final.held_wall_s)
+    log.info("bridge sent %d truth samples", bridge.truths_sent)
+    if streamer is not None:
+        log.info("bridge %s", streamer.summary())
+    if setpoint_ages_s:
+        p50, p99 = np.percentile(setpoint_ages_s, [50, 99])
+        log.info("setpoint age at the autopilot [mission s]: p50 %.4f p99 %.4f max %.4f (%d samples)",
+                 p50, p99, max(setpoint_ages_s), len(setpoint_ages_s))
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        plan = load_fleet_plan(args.plan, args.scenario, args.overrides)
-        mission = validate_mission(args.mission or plan.mission)
-        zenoh = zenoh_config_from_args(args)
-        faults = [parse_fault(text) for text in args.fault]
-        if not args.speed > 0:
-            raise ValueError(f"--speed {args.speed}: must be > 0")
-        if not args.agent_timeout_s > 0:
-            raise ValueError(f"--agent-timeout-s {args.agent_timeout_s}: must be > 0")
-        if args.clock == "paced" and args.cameras != "none":
-            raise ValueError("--clock paced: run the cameras in their own process (--cameras none)")
-        camera_hz = args.camera_hz or plan.camera.rate_hz
-        truth_hz = args.truth_hz or plan.control_rate_hz
-        if not (camera_hz > 0 and truth_hz > 0):
-            raise ValueError("--camera-hz and --truth-hz must be > 0")
-        world = plan.world
-        # The cameras render the flood and the rangefinders measure its ground (flat but for the hydro model).
-        flood = flood_model_from_config(world.flood, seed=world.seed, base_dir=world.source_dir)
+        setup = _setup(args)
     except (ScenarioError, PlanFileError, KeyNameError, FaultSpecError, ValueError) as exc:
         print(f"sim_bridge: {exc}", file=sys.stderr)
         return 2
-    camera = CameraModel(plan.camera.width_px, plan.camera.height_px, plan.camera.fov_deg)
     # OpenCV parallelises each remap over its own thread pool; on a machine already saturated by the agents, every
     # frame then waits for pool threads that are not scheduled (measured: 15 ms wall for 3 ms of CPU per frame).
     cv2.setNumThreads(1)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())
-    pacer = Pacer(1.0 / truth_hz, args.agent_timeout_s, paced=args.clock == "paced")
-    fleet = Fleet(vehicle_configs(plan), base_port=args.base_port, gcs_port=args.gcs_port, speed=args.speed,
-                  faults=faults, initial_gate_s=pacer.gate_s if pacer.paced else math.inf)
+    pacer = Pacer(1.0 / setup.truth_hz, args.agent_timeout_s, paced=args.clock == "paced")
+    fleet = Fleet(vehicle_configs(setup.plan), base_port=args.base_port, gcs_port=args.gcs_port, speed=args.speed,
+                  faults=setup.faults, initial_gate_s=pacer.gate_s if pacer.paced else math.inf)
     try:
         fleet.start()
     except OSError as exc:
@@ -161,53 +237,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     try:
         try:
-            session = ZenohSession(zenoh)
+            session = ZenohSession(setup.zenoh)
         except ZenohOpenError as exc:
             print(f"sim_bridge: {exc}", file=sys.stderr)
             return 1
         with session:
-            streamer = None
-            if args.cameras != "none":
-                streamer = CameraStreamer(
-                    session, mission, flood, camera, plan.seed, 1.0 / camera_hz,
-                    camera_users({v.vehicle_id: v.role for v in plan.vehicles}, args.cameras),
-                    on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t))
-            bridge = SimBridge(session, mission, 1.0 / truth_hz, streamer)
-            setpoint_ages_s: list[float] = []
-
-            def publish_truth(t_s: float) -> None:
-                truth = fleet.truth()
-                set_ground_below(fleet, truth, flood)
-                bridge.publish_truth(t_s, vehicle_truths(truth, fleet))
-                setpoint_ages_s.extend(setpoint_ages(fleet, truth, t_s))
-
-            keeper = PaceKeeper(session, mission, pacer, fleet.clock.now_s, lambda: fleet.last_tick_t_s,
-                                fleet.set_gate, publish_truth)
-            log.info("fleet of %d vehicles up (speed x%g, %s clock), bridge publishing on floodwatch/%s",
-                     len(plan.vehicles), args.speed, args.clock, mission)
-            while not stop.is_set():
-                keeper.poll()
-                if pacer.paced:
-                    keeper.wait(keeper.next_wait_s())
-                    continue
-                now_s = fleet.clock.now_s()
-                truth = fleet.truth()
-                set_ground_below(fleet, truth, flood)
-                bridge.tick(now_s, vehicle_truths(truth, fleet))
-                setpoint_ages_s.extend(setpoint_ages(fleet, truth, fleet.clock.now_s()))
-                wait_s = fleet.clock.wall_delay_s(max(0.0, bridge.next_due_s() - fleet.clock.now_s()))
-                stop.wait(min(wait_s, 0.05))
-            final = keeper.report()
-            log.info("clock: %.1f s simulated in %.1f s wall (%.2fx real time, %s), held %.1f s waiting",
-                     final.t_s, final.wall_s, final.real_time_factor, "paced" if final.paced else "free",
-                     final.held_wall_s)
-            log.info("bridge sent %d truth samples", bridge.truths_sent)
-            if streamer is not None:
-                log.info("bridge %s", streamer.summary())
-            if setpoint_ages_s:
-                p50, p99 = np.percentile(setpoint_ages_s, [50, 99])
-                log.info("setpoint age at the autopilot [mission s]: p50 %.4f p99 %.4f max %.4f (%d samples)",
-                         p50, p99, max(setpoint_ages_s), len(setpoint_ages_s))
+            _serve(args, setup, fleet, pacer, session, stop)
     finally:
         fleet.stop()
     return 0
