@@ -116,8 +116,9 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
         backend=ns.backend or "kinematic", clock=ns.clock or "paced", agent_timeout_s=ns.agent_timeout_s,
-        startup_timeout_s=ns.startup_timeout_s, strict=ns.strict, key_file=ns.key_file, dashboard_port=ns.dashboard_port if ns.dashboard else None,
-        dashboard_host=ns.dashboard_host, dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
+        startup_timeout_s=ns.startup_timeout_s, strict=ns.strict, key_file=ns.key_file,
+        dashboard_port=ns.dashboard_port if ns.dashboard else None, dashboard_host=ns.dashboard_host,
+        dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
     )
 
 
