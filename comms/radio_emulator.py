@@ -8,7 +8,8 @@ agents subscribe to each other's public state keys, see ``comms.swarm_link``).
 
 Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioModel.send_many`` (one batch
 per tick) on the latest ``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> held in flight (latency/jitter) -> one
-``RadioBundle`` per receiver per tick on ``floodwatch/<m>/radio/<rid>/inbox``.
+``RadioBundle`` per receiver per tick on ``floodwatch/<m>/radio/<rid>/inbox``, framed from entries encoded once
+per message (:mod:`comms.bundle_wire`).
 
 ``comms.radio_relay.RadioRelay`` is the logic without Zenoh or clocks (time is passed in); ``RadioEmulator`` is the
 thin shell that runs it on a thread against a ``ZenohSession``. The states wait in Zenoh's own ring
@@ -30,7 +31,7 @@ import time
 from dataclasses import dataclass
 
 from comms.keys import MissionKeys
-from comms.messages import GroundTruth, PaceAck, RadioBundle, decode, encode
+from comms.messages import GroundTruth, PaceAck, decode, encode
 from comms.radio_model import RadioModel
 from comms.radio_relay import RadioRelay
 from comms.signing import MissionKey, Verifier
@@ -83,6 +84,7 @@ class RadioEmulator:
         self._truth = self.session.subscribe(self.keys.truth)
         self._truth_key = self.keys.truth
         self._vehicle_of_key: dict[str, int | None] = {}
+        self._inbox_keys: dict[int, str] = {}  # receiver id -> its inbox key, built once
         self.session.declare_alive(self.keys.alive("radio"))
         self.error: BaseException | None = None
 
@@ -143,8 +145,12 @@ class RadioEmulator:
         return truth
 
     def _deliver(self, now_s: float, t_s: float) -> None:
-        for receiver, entries in self.relay.pop_due(now_s).items():
-            self.session.put(self.keys.inbox(receiver), encode(RadioBundle(t_s=t_s, entries=entries)))
+        inbox_keys, put = self._inbox_keys, self.session.put
+        for receiver, bundle in self.relay.pop_due_bundles(now_s, t_s):
+            key = inbox_keys.get(receiver)
+            if key is None:
+                key = inbox_keys[receiver] = self.keys.inbox(receiver)
+            put(key, bundle)
             self.bundles_out += 1
 
     def _run(self) -> None:

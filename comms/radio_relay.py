@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import msgspec
 import numpy as np
 
+from comms.bundle_wire import bundle_bytes, bundle_head, encode_entry
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
 from comms.radio_model import GROUND_NODE_ID, RadioModel
@@ -77,7 +78,7 @@ class RadioRelay:
         self._budget_limited = self.budgets.limited
         self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
         self.verifier = verifier
-        self._in_flight: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []  # due, receiver id, sender id, payload
+        self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, encoded bundle entry
         self._in_flight_count = 0
         self._positions: np.ndarray | None = None
         self._alive_count = 0
@@ -90,6 +91,7 @@ class RadioRelay:
         self._link_ids: list[int] = []
         self._link_slot: dict[int, int] = {}
         self._link_slot_of_truth = np.zeros(0, dtype=np.int64)
+        self._truth_layout: tuple[tuple[int, ...], bytes] | None = None  # vehicle ids and alive flags of the truth
 
     # ---- inputs
     def on_truth(self, truth: GroundTruth) -> None:
@@ -106,6 +108,10 @@ class RadioRelay:
             self._positions = np.vstack([self._positions, np.asarray(self.ground_node_enu_m, dtype=float)[None, :]])
             vehicle_ids.append(GROUND_NODE_ID)
         alive = np.isfinite(self._positions).all(axis=1)
+        layout = (tuple(vehicle_ids), alive.tobytes())
+        if layout == self._truth_layout:  # the same vehicles alive as in the last truth: the lookups still hold
+            return
+        self._truth_layout = layout
         self._alive_count = int(np.count_nonzero(alive))
         self._ids = np.asarray(vehicle_ids, dtype=np.int64)
         self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids) if alive[i]}
@@ -198,7 +204,11 @@ class RadioRelay:
                 return
         m = tx.message_index[ok]
         due = rx_s[m] + tx.delivery_t_s[ok] / self.speed
-        self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m]))
+        sender_ids = self._ids[slots_a].tolist()
+        entries = np.empty(len(batch), dtype=object)
+        entries[:] = [encode_entry(sid, payload) for sid, payload in zip(sender_ids, payload_list)]
+        self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m],
+                                entries[m]))
         self._in_flight_count += n_ok
 
     def _count_links(self, sender_index: np.ndarray, receiver_index: np.ndarray, delivered: np.ndarray) -> None:
@@ -213,35 +223,51 @@ class RadioRelay:
     def pop_due(self, now_s: float) -> dict[int, list[tuple[int, bytes]]]:
         """Flush, then the messages to hand over now, by receiver id: {receiver: [(sender_id, payload), ...]}
         in delivery-time order."""
+        ready = self._take_ready(now_s)
+        if ready is None:
+            return {}
+        receivers, columns, starts, ends = ready
+        senders, payloads = columns[2].tolist(), columns[3].tolist()
+        return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers, starts, ends)}
+
+    def pop_due_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
+        """What ``pop_due`` hands over, as each receiver's encoded ``RadioBundle`` stamped ``t_s``: the entries
+        were encoded once per message in ``flush`` and are only framed here (:mod:`comms.bundle_wire`)."""
+        ready = self._take_ready(now_s)
+        if ready is None:
+            return []
+        receivers, columns, starts, ends = ready
+        head, entries = bundle_head(t_s), columns[4].tolist()
+        return [(r, bundle_bytes(head, entries[a:b])) for r, a, b in zip(receivers, starts, ends)]
+
+    def _take_ready(self, now_s: float) -> tuple[list[int], list[np.ndarray], list[int], list[int]] | None:
+        """Flush, then take the in-flight messages due by ``now_s`` out of flight, sorted by receiver then due
+        time: (receiver id of each group, the in-flight columns in that order, group starts, group ends)."""
         self.flush()
         if not self._in_flight:
-            return {}
-        parts: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
-        remaining = []
+            return None
+        parts: list[tuple[np.ndarray, ...]] = []
+        remaining: list[tuple[np.ndarray, ...]] = []
         for chunk in self._in_flight:
-            due = chunk[0]
-            ready = due <= now_s
+            ready = chunk[0] <= now_s
             if ready.all():
                 parts.append(chunk)
             elif ready.any():
-                parts.append(tuple(a[ready] for a in chunk))  # type: ignore[arg-type]
+                parts.append(tuple(a[ready] for a in chunk))
                 remaining.append(tuple(a[~ready] for a in chunk))
             else:
                 remaining.append(chunk)
-        self._in_flight = remaining  # type: ignore[assignment]
+        self._in_flight = remaining
         if not parts:
-            return {}
-        due = np.concatenate([p[0] for p in parts])
-        receivers = np.concatenate([p[1] for p in parts])
-        senders = np.concatenate([p[2] for p in parts])
-        payloads = np.concatenate([p[3] for p in parts])
-        self._in_flight_count -= due.size
-        order = np.lexsort((due, receivers))
-        receivers, senders, payloads = receivers[order], senders[order].tolist(), payloads[order].tolist()
-        bounds = np.flatnonzero(np.diff(receivers)) + 1
-        starts = [0, *bounds.tolist()]
-        ends = [*bounds.tolist(), receivers.size]
-        return {int(receivers[a]): list(zip(senders[a:b], payloads[a:b])) for a, b in zip(starts, ends)}
+            return None
+        columns = [np.concatenate(column) for column in zip(*parts)]
+        self._in_flight_count -= columns[0].size
+        order = np.lexsort((columns[0], columns[1]))
+        columns = [column[order] for column in columns]
+        receivers = columns[1]
+        bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
+        starts = [0, *bounds]
+        return receivers[starts].tolist(), columns, starts, [*bounds, receivers.size]
 
     def next_due_s(self) -> float | None:
         """When the earliest message in flight is due (None when nothing is in flight or queued)."""
@@ -255,11 +281,9 @@ class RadioRelay:
         """Counters as a message (after deciding queued messages); ``links``: every (sender, receiver) pair with traffic."""
         self.flush()
         s_idx, r_idx = np.nonzero((self._link_delivered + self._link_lost) > 0)
-        ids = self._link_ids
-        links = [
-            (ids[s], ids[r], int(self._link_delivered[s, r]), int(self._link_lost[s, r]))
-            for s, r in zip(s_idx.tolist(), r_idx.tolist())
-        ]
+        ids = np.asarray(self._link_ids, dtype=np.int64)
+        links = np.stack([ids[s_idx], ids[r_idx], self._link_delivered[s_idx, r_idx], self._link_lost[s_idx, r_idx]],
+                         axis=1).tolist()
         c = self.counters
         return RadioLinkStats(
             t_s=t_s, messages_in=c.messages_in, delivered=c.delivered, lost=c.lost,

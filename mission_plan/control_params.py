@@ -90,6 +90,9 @@ class ControlParams:
     """A relayed state older than this (by its origin's time stamp) is not relayed further."""
     relay_budget_bytes: int = 3000
     """At most this many encoded bytes of relayed states ride on one state message."""
+    state_rate_hz: float = 20.0
+    """How many state messages a drone sends per mission second (the scenario's ``control_rate_hz``): a relayed
+    copy's ``seq`` cannot run ahead of what its origin could have sent (:mod:`vehicle_agents.core.relay_admission`)."""
     relay_every: int = 1
     """Relayed states ride on one state message in this many: 4 cuts the relay's traffic and cost fourfold (on
     ``circle`` at 15 m range the polygon IoU went from 0.997 to 0.989 at 30 s; docs/COMMS.md)."""
@@ -130,7 +133,8 @@ class ControlParams:
                      "relay_max_hops", "relay_max_age_s", "relay_budget_bytes", "relay_every"):
             if not getattr(self, name) >= 0.0:
                 raise ControlParamsError(f"control.{name}: must be >= 0, got {getattr(self, name)}")
-        for name in ("neighbour_position_std_m", "neighbour_velocity_std_mps", "neighbour_position_bound_m"):
+        for name in ("neighbour_position_std_m", "neighbour_velocity_std_mps", "neighbour_position_bound_m",
+                     "state_rate_hz"):
             if not getattr(self, name) > 0.0:
                 raise ControlParamsError(f"control.{name}: must be > 0, got {getattr(self, name)}")
         for name in ("k_boundary_per_s", "k_leader_per_s", "k_follower_per_s"):

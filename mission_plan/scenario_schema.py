@@ -108,7 +108,8 @@ class Scenario:
         """The control parameters of ``mode`` ("paper" or "improved") for every vehicle of this scenario."""
         try:
             return params_for_mode(
-                mode, self.control, self.roster(), nominal_altitude_m=self.altitude_m, fov_deg=self.camera.fov_deg
+                mode, self.control, self.roster(), nominal_altitude_m=self.altitude_m, fov_deg=self.camera.fov_deg,
+                state_rate_hz=self.control_rate_hz,
             )
         except ControlParamsError as exc:
             raise ScenarioError(str(exc)) from None

@@ -14,8 +14,9 @@ moves, ``last_tick_t_s`` tells when physics and telemetry have reached the gate,
 wall clock while simulated time stands still (a slow paced run must not look like a lost link).
 
 Instance i (0-based) is MAVLink system i+1; its onboard/API link sends to 127.0.0.1:base_port+i (skipping the GCS
-port, see ``ports.py``) and its GCS link to 127.0.0.1:gcs_port (PX4 SITL conventions). Each link binds its own local port (ephemeral by default, PX4's
-14580+i / 18570+i with ``px4_local_ports=True``).
+port; another host per vehicle with ``LinkHosts``, see ``ports.py``) and its GCS link to 127.0.0.1:gcs_port (PX4
+SITL conventions). Each link binds its own local port (ephemeral by default, PX4's 14580+i / 18570+i with
+``px4_local_ports=True``).
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ from comms.frames import local_ned_to_mission_enu, ned_to_enu
 from mock_autopilot.clock import SimClock
 from mock_autopilot.faults import FAULT_EFFECTS, FaultSpec
 from mock_autopilot.mavlink_codec import LinkCodec, SigningState
-from mock_autopilot.ports import onboard_port
+from mock_autopilot.ports import LinkHosts, onboard_port
 from mock_autopilot.px4_streams import GCS, LINKS, ONBOARD, STREAM_PROFILES
 from mock_autopilot.telemetry import heartbeat
 from mock_autopilot.udp_link import UdpLink
@@ -91,7 +92,7 @@ class Fleet:
         gcs_port: int = 14550,
         speed: float = 1.0,
         *,
-        host: str = "127.0.0.1",
+        host: str | LinkHosts = "127.0.0.1",
         px4_local_ports: bool = False,
         signing_key: bytes | None = None,
         tick_period_s: float | None = None,
@@ -111,7 +112,8 @@ class Fleet:
         self.configs = configs
         self.base_port = base_port
         self.gcs_port = gcs_port
-        self.host = host
+        self.hosts = host if isinstance(host, LinkHosts) else LinkHosts(host)
+        self.host = self.hosts.host
         self.px4_local_ports = px4_local_ports
         self.signing_key = signing_key
         if tick_period_s is None:
@@ -210,7 +212,8 @@ class Fleet:
 
     async def _open_links(self, i: int, vehicle: Vehicle) -> dict[str, UdpLink]:
         links: dict[str, UdpLink] = {}
-        remotes = {ONBOARD: (self.host, onboard_port(self.base_port, i, self.gcs_port)), GCS: (self.host, self.gcs_port)}
+        onboard = (self.hosts.onboard_host(vehicle.system_id), onboard_port(self.base_port, i, self.gcs_port))
+        remotes = {ONBOARD: onboard, GCS: (self.host, self.gcs_port)}
         local_ports = {
             ONBOARD: PX4_ONBOARD_LOCAL_BASE_PORT + i if self.px4_local_ports else 0,
             GCS: PX4_GCS_LOCAL_BASE_PORT + i if self.px4_local_ports else 0,
@@ -223,7 +226,7 @@ class Fleet:
             codec = LinkCodec(vehicle.system_id, 1, signing)
             link = UdpLink(name, codec, remotes[name], self.clock, self._make_sink(i))
             links[name] = link
-            await link.open((self.host, local_ports[name]))
+            await link.open((self.hosts.bind_host, local_ports[name]))
         return links
 
     def _close_links(self) -> None:
@@ -372,13 +375,9 @@ class Fleet:
 
     def ports(self, instance: int) -> VehiclePorts:
         """Remote and bound addresses of vehicle ``instance``'s links."""
-        links = self.links[instance]
-        return VehiclePorts(
-            onboard_remote=(self.host, onboard_port(self.base_port, instance, self.gcs_port)),
-            gcs_remote=(self.host, self.gcs_port),
-            onboard_local=links[ONBOARD].local_address,
-            gcs_local=links[GCS].local_address,
-        )
+        links, vid = self.links[instance], self.vehicles[instance].system_id
+        return VehiclePorts((self.hosts.onboard_host(vid), onboard_port(self.base_port, instance, self.gcs_port)),
+                            (self.host, self.gcs_port), links[ONBOARD].local_address, links[GCS].local_address)
 
     def drop_counters(self) -> dict[int, dict[str, dict[str, int]]]:
         """system id -> link -> reason -> count, for every datagram or frame the vehicle refused.

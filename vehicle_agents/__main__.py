@@ -185,9 +185,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(
         "vehicle %d exits with %d: %d control steps (%.1f Hz mission time), %d overruns, %d frames processed, "
-        "%d frames missed; dropped for their tag: %d commands, %d states", config.vehicle_id, code,
-        stats.control_steps, stats.control_rate_hz(), stats.overruns, stats.frames_processed, stats.frames_dropped,
-        swarm.command_verifier.dropped_total(), 0 if swarm.link.verifier is None else swarm.link.verifier.dropped_total())
+        "%d frames missed; dropped for their tag: %d commands, %d states; relayed copies refused: %d",
+        config.vehicle_id, code, stats.control_steps, stats.control_rate_hz(), stats.overruns, stats.frames_processed,
+        stats.frames_dropped, swarm.command_verifier.dropped_total(),
+        0 if swarm.link.verifier is None else swarm.link.verifier.dropped_total(), sum(agent.state.refused_copies))
     return code
 
 

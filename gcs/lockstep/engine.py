@@ -266,7 +266,8 @@ class _LockstepRun:
             radio_model_of(scenario.radio, seed),
             [*self.ids, GROUND_NODE_ID] if not scenario.radio.gcs_lossless else self.ids,
         )
-        self.ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(self.pads))
+        self.ground = None if scenario.radio.gcs_lossless else GroundNode(antenna_enu_m(self.pads),
+                                                                                     scenario.control_rate_hz)
         self.fleet = make_backend(backend, scenario, seed)
         self.state = self.fleet.hover_start(scenario.altitude_m)
         self.boundary_idx = [i for i, v in enumerate(vehicles) if v.role == ROLE_BOUNDARY]

@@ -20,6 +20,7 @@ from gcs.mission.options import BACKENDS, CLOCKS, ENGINES, MissionOptions
 from gcs.one_line_argparse import EXIT_USAGE, OneLineArgumentParser
 from gcs.scenario import Scenario, ScenarioError, load_scenario
 from mission_plan.control_params import ControlMode
+from mock_autopilot.ports import link_hosts
 from mock_autopilot.world.hydro_cache import CACHE_ENV
 from vehicle_agents.control.params import MODES
 
@@ -56,6 +57,13 @@ def build_parser() -> argparse.ArgumentParser:
                         help="override a scenario parameter, e.g. --set flood.radius_end_m=20 (repeatable)")
     parser.add_argument("--base-port", type=int, default=14540, help="first vehicle's MAVLink API port (processes)")
     parser.add_argument("--gcs-port", type=int, default=14550, help="ground station MAVLink port (processes)")
+    hosts = parser.add_argument_group("agents on other hosts (processes engine)")
+    hosts.add_argument("--no-agents", dest="start_agents", action="store_false",
+                       help="start no agent: they run on the drones' companion computers and join over Zenoh")
+    hosts.add_argument("--fleet-bind", default=None, metavar="ADDR",
+                       help="address the mock fleet's MAVLink sockets bind (default 127.0.0.1; 0.0.0.0: every one)")
+    hosts.add_argument("--onboard-partner", action="append", default=[], metavar="IDS=IP",
+                       help="these vehicles' onboard links go to their companion computer at IP, e.g. 1-4=10.0.0.2")
     parser.add_argument("--cache-dir", type=Path, default=None, metavar="DIR",
                         help="where hydrodynamic flood runs are cached (default: the user's cache directory); "
                              "every process started inherits it")
@@ -109,6 +117,12 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         except KeyFileError as exc:
             _fail(f"--key-file: {exc}")
     check_dashboard_args(ns.dashboard_port, ns.dashboard_token, ns.tiles, _fail)
+    if ns.engine != "processes" and (not ns.start_agents or ns.fleet_bind or ns.onboard_partner):
+        _fail("--no-agents, --fleet-bind, --onboard-partner: only the processes engine has agents and a fleet to place")
+    try:
+        link_hosts(ns.fleet_bind, ns.onboard_partner)
+    except ValueError as exc:
+        _fail(str(exc).replace("--bind", "--fleet-bind"))
     out = ns.out if ns.out is not None else default_out_dir(ns.scenario, ns.engine, ns.mode)
     if ns.cache_dir is not None:
         os.environ[CACHE_ENV] = str(ns.cache_dir.resolve())
@@ -119,6 +133,7 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         startup_timeout_s=ns.startup_timeout_s, strict=ns.strict, key_file=ns.key_file,
         dashboard_port=ns.dashboard_port if ns.dashboard else None, dashboard_host=ns.dashboard_host,
         dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
+        start_agents=ns.start_agents, fleet_bind=ns.fleet_bind, onboard_partners=tuple(ns.onboard_partner),
     )
 
 

@@ -53,3 +53,10 @@ class MissionOptions:
     dashboard_host: str = "127.0.0.1"
     dashboard_token: str | None = None
     dashboard_tiles: Path | None = None
+    start_agents: bool = True
+    """Processes engine: False (``--no-agents``) starts no agent; they run on the drones' companion computers
+    (other hosts) and join over Zenoh, as in the field."""
+    fleet_bind: str | None = None
+    """Processes engine: the address the mock fleet's MAVLink sockets bind (``--fleet-bind``; default loopback)."""
+    onboard_partners: tuple[str, ...] = ()
+    """Processes engine: ``IDS=IP`` items, where those vehicles' onboard links send (their companion computers)."""

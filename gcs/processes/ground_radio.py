@@ -39,7 +39,7 @@ class GroundRadio:
         if scenario.radio.gcs_lossless:
             return None
         pads = np.array([v.pad_enu_m for v in scenario.vehicles], dtype=float)
-        return cls(hub, keys, key, GroundNode(antenna_enu_m(pads)))
+        return cls(hub, keys, key, GroundNode(antenna_enu_m(pads), scenario.control_rate_hz))
 
     @property
     def heard(self) -> Mapping[int, NeighbourState]:

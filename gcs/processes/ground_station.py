@@ -35,7 +35,7 @@ from comms.keys import MissionKeys
 from comms.messages import MissionCommand, NeighbourState, encode
 from comms.signing import MissionKey
 from comms.swarm_link import SwarmLink
-from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
+from comms.zenoh_session import ZenohOpenError, ZenohSession
 from gcs.dashboard.gcs_link import GcsDashboardLink, start_dashboard_process
 from gcs.processes.event_log import EventLog
 from gcs.processes.fleet_readiness import (HeartbeatWatch, everyone_heard, everyone_in_offboard, startup_problem,
@@ -43,7 +43,7 @@ from gcs.processes.fleet_readiness import (HeartbeatWatch, everyone_heard, every
 from gcs.processes.ground_radio import GroundRadio
 from gcs.processes.intrusion_watch import IntrusionWatch
 from gcs.processes.host_capacity import host_warning
-from gcs.processes.launch import ProcessOptions
+from gcs.processes.launch import ProcessOptions, hub_config
 from gcs.processes.live_view import LiveOutput, station_snapshot
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.processes.mission_children import ChildFailed, MissionChildren, StartupProgress
@@ -143,7 +143,7 @@ class GroundStation:
                 raise MissionFailed(str(exc.strerror or exc)) from None
             if self.children is not None:
                 self.children.start(self.states)
-                self.agent_alive.update((vid, False) for vid in self.children.agents)
+                self.agent_alive.update((vid, False) for vid in self.children.expected_agents)
                 self.key_path, self.mission_key = self.children.key_path, self.children.mission_key
             else:
                 self.mission_key = self._read_key()
@@ -199,7 +199,7 @@ class GroundStation:
 
     def _open_hub(self) -> ZenohSession:
         try:
-            return ZenohSession(ZenohConfig.hub(self.options.zenoh_endpoint))
+            return ZenohSession(hub_config(self.options))
         except ZenohOpenError as exc:
             raise MissionFailed(f"Zenoh endpoint {self.options.zenoh_endpoint} is not free: {exc}") from None
 
@@ -316,7 +316,7 @@ class GroundStation:
         hub.put(self.keys.command, self.intrusions.sign_command(encode(msg)))
 
     def _last_startup_progress_wall_s(self, started_wall_s: float) -> float:
-        expected = self.children.agents if self.children is not None else self.vehicle_ids
+        expected = self.children.expected_agents if self.children is not None else self.vehicle_ids
         return self.startup.last_progress_wall_s(started_wall_s, sum(1 for vid in expected if vid in self.states))
 
     # ------------------------------------------------------------------ what is going on

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from comms.zenoh_session import DEFAULT_ENDPOINT
+from comms.zenoh_session import DEFAULT_ENDPOINT, ZenohConfig
 from gcs.polygon.radio_node import antenna_enu_m
 from gcs.scenario import Scenario
 from mission_plan.control_params import ControlMode
@@ -58,7 +58,23 @@ class ProcessOptions:
     dashboard_tiles: Path | None = None
     """A local MBTiles or PMTiles file served as the live map's base layer."""
     sim_faults: tuple[str, ...] = field(default=())
+    start_agents: bool = True
+    """False: the station starts no agent (they run on other hosts, the drones' companion computers)."""
+    fleet_bind: str | None = None
+    """The address the fleet's MAVLink sockets bind (None: loopback)."""
+    onboard_partners: tuple[str, ...] = field(default=())
+    """``IDS=IP``: where those vehicles' onboard links send (their companion computers), PX4's partner address."""
     """Fault injection in the fleet, ``KIND:INSTANCE[:VALUE]@T_S`` in fleet time (see ``python -m mock_autopilot``)."""
+
+
+def hub_config(options: ProcessOptions) -> ZenohConfig:
+    """The mission hub: a Zenoh peer the simulation's processes join (and mesh with), or, when the agents run on
+    other hosts (``--no-agents``), a router: those hosts' routers reach the hub through its host's router, and a
+    peer hub does not forward what the other peers on its host publish (the truth, the paced clock, the radio's
+    bundles) to a router; a router hub does."""
+    if options.start_agents:
+        return ZenohConfig.hub(options.zenoh_endpoint)
+    return ZenohConfig.router(listen=(options.zenoh_endpoint,))
 
 
 def sim_command(options: ProcessOptions, plan: Path) -> list[str]:
@@ -69,6 +85,8 @@ def sim_command(options: ProcessOptions, plan: Path) -> list[str]:
         "--cameras", "none", "--connect", options.zenoh_endpoint, "--clock", options.clock,
         "--agent-timeout-s", f"{options.agent_timeout_s:g}",
         *[arg for fault in options.sim_faults for arg in ("--fault", fault)],
+        *(["--bind", options.fleet_bind] if options.fleet_bind else []),
+        *[arg for partner in options.onboard_partners for arg in ("--onboard-partner", partner)],
     ]
 
 

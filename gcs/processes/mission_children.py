@@ -79,10 +79,14 @@ class MissionChildren:
         self.services["cameras"] = self.supervisor.start("cameras", cameras_command(opts, plans.cameras))
         self.services["radio"] = self.supervisor.start("radio", radio_command(opts, self.scenario, self.mission, plans.key))
         self._plans = plans.agents
-        self.to_start = [v.vehicle_id for v in self.scenario.vehicles]
+        self.to_start = [v.vehicle_id for v in self.scenario.vehicles] if opts.start_agents else []
         self._write_pids()
-        self.events(f"started the fleet+truth, cameras and radio processes; {len(self.to_start)} agents "
-                    f"follow, {self.max_connecting()} at a time (logs in {self.out_dir})")
+        if opts.start_agents:
+            self.events(f"started the fleet+truth, cameras and radio processes; {len(self.to_start)} agents "
+                        f"follow, {self.max_connecting()} at a time (logs in {self.out_dir})")
+        else:
+            self.events(f"started the fleet+truth, cameras and radio processes; the agents run elsewhere (their plans "
+                        f"in {plans.fleet.parent}) and join over Zenoh")
         self.start_agents(connected)
 
     def start_agents(self, connected: Container[int]) -> list[int]:
@@ -103,6 +107,11 @@ class MissionChildren:
             if not self.to_start:
                 self.events(f"all {len(self.agents)} agents started")
         return started
+
+    @property
+    def expected_agents(self) -> list[int]:
+        """The agents the mission waits for: those this station started, or every vehicle's when they run elsewhere."""
+        return list(self.agents) if self.options.start_agents else [v.vehicle_id for v in self.scenario.vehicles]
 
     def newly_exited_agents(self) -> list[tuple[int, int, Child]]:
         """(vehicle id, exit code, child) of agents that exited since the last call; raises :class:`ChildFailed`

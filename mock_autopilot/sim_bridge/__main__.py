@@ -38,6 +38,7 @@ from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.faults import FaultSpec, FaultSpecError, parse_fault
 from mock_autopilot.fleet import Fleet, FleetTruth
 from mock_autopilot.pacing import Pacer
+from mock_autopilot.ports import LinkHosts, link_hosts
 from mock_autopilot.px4_streams import DEFAULT_PROFILE
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, SimBridge, VehicleTruth, camera_users
 from mock_autopilot.sim_bridge.pace_keeper import PaceKeeper
@@ -108,6 +109,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="paced clock: wall seconds a participant may hold a tick before the clock goes on without it")
     p.add_argument("--base-port", type=int, default=14540)
     p.add_argument("--gcs-port", type=int, default=14550)
+    p.add_argument("--bind", default=None, metavar="ADDR",
+                   help="address the vehicles' MAVLink sockets bind (default 127.0.0.1; 0.0.0.0 for other hosts)")
+    p.add_argument("--onboard-partner", action="append", default=[], metavar="IDS=IP",
+                   help="send these vehicles' onboard link to their companion computer at IP (PX4: mavlink start -t "
+                        "IP), e.g. 1-4=10.0.0.2")
     p.add_argument("--camera-hz", type=float,
                    help="camera frame rate in mission time (default: the plan's camera rate)")
     p.add_argument("--truth-hz", type=float, help="ground-truth rate in mission time (default: the control rate)")
@@ -132,6 +138,7 @@ class _Setup:
     camera_hz: float
     truth_hz: float
     flood: FloodModel
+    hosts: LinkHosts
 
 
 def _setup(args: argparse.Namespace) -> _Setup:
@@ -154,7 +161,7 @@ def _setup(args: argparse.Namespace) -> _Setup:
     world = plan.world
     # The cameras render the flood and the rangefinders measure its ground (flat but for the hydro model).
     flood = flood_model_from_config(world.flood, seed=world.seed, base_dir=world.source_dir)
-    return _Setup(plan, mission, zenoh, faults, camera_hz, truth_hz, flood)
+    return _Setup(plan, mission, zenoh, faults, camera_hz, truth_hz, flood, link_hosts(args.bind, args.onboard_partner))
 
 
 def _serve(args: argparse.Namespace, setup: _Setup, fleet: Fleet, pacer: Pacer, session: ZenohSession,
@@ -229,7 +236,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         signal.signal(sig, lambda *_: stop.set())
     pacer = Pacer(1.0 / setup.truth_hz, args.agent_timeout_s, paced=args.clock == "paced")
     fleet = Fleet(vehicle_configs(setup.plan), base_port=args.base_port, gcs_port=args.gcs_port, speed=args.speed,
-                  faults=setup.faults, initial_gate_s=pacer.gate_s if pacer.paced else math.inf)
+                  host=setup.hosts, faults=setup.faults, initial_gate_s=pacer.gate_s if pacer.paced else math.inf)
     try:
         fleet.start()
     except OSError as exc:

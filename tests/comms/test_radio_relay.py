@@ -144,3 +144,18 @@ def test_skipped_sequence_numbers_are_counted_as_input_gaps() -> None:
     for seq in (1, 2, 5, 6, 10):
         relay.on_state(0, _state(0, seq), 0.0)
     assert relay.counters.input_gaps == 2 + 3
+
+
+def test_bundles_carry_what_pop_due_hands_over() -> None:
+    """The emulator's framed bundles decode to exactly the (sender, payload) lists ``pop_due`` returns."""
+    from comms.messages import RadioBundle, decode
+
+    relays = [RadioRelay(RadioModel(25.0, latency_s=0.1, jitter_s=0.2, seed=4)) for _ in range(2)]
+    for relay in relays:
+        relay.on_truth(_truth([(0, 0, 10), (1, 0, 10), (2, 0, 10), (3, 40, 10)]))
+        for seq in (1, 2, 3):
+            for vid in (0, 1, 2, 3):
+                relay.on_state(vid, _state(vid, seq), 0.01 * seq)
+    expected = relays[0].pop_due(1.0)
+    got = {r: decode(RadioBundle, b).entries for r, b in relays[1].pop_due_bundles(1.0, 7.5)}
+    assert got == expected and sum(map(len, expected.values())) == 18

@@ -5,7 +5,8 @@ One rule for both engines (it used to be three control periods of arrival time i
 ``neighbour_timeout_s`` old by the sender's own time stamp, the age a control law corrects for (the radio's latency
 counts, not when the message happened to arrive). A message with ``FLAG_LEAVING``, or a liveliness token that
 vanished, removes its sender at once and until its token reappears. Newest sequence number wins, except that a
-sender whose time stamp jumped past the timeout restarted (its counter began again).
+sender whose time stamp jumped past the timeout restarted (its counter began again), and that an entry filed from a
+relayed copy gives way to the origin's own message and otherwise to a copy with a newer origin time stamp.
 """
 
 from __future__ import annotations
@@ -50,6 +51,17 @@ def heard_after(
             table.pop(sender, None)
             continue
         current = table.get(sender)
-        if msg.t_s >= oldest_t_s and (current is None or msg.seq > current.seq or msg.t_s > current.t_s + timeout_s):
+        if msg.t_s >= oldest_t_s and (current is None or replaces(msg, current, timeout_s)):
             table[sender] = msg
     return table, departed
+
+
+def replaces(msg: HeardState, current: HeardState, timeout_s: float) -> bool:
+    """Whether ``msg`` replaces the entry ``current`` of the same sender. Between the origin's own messages the
+    newest ``seq`` wins (or a time stamp past the timeout: a restart); the origin's own message replaces a relayed
+    copy, and a copy replaces a copy when its origin time stamp is newer (for one origin both orders agree, but a
+    copy's ``seq`` is its carrier's word only: :mod:`vehicle_agents.core.relay_admission`)."""
+    msg_relayed, current_relayed = getattr(msg, "hops", 0) > 0, getattr(current, "hops", 0) > 0
+    if current_relayed:
+        return not msg_relayed or msg.t_s > current.t_s
+    return msg.seq > current.seq or msg.t_s > current.t_s + timeout_s

@@ -28,6 +28,7 @@ from vehicle_agents.core.filtered_neighbours import filter_noise, filtered_infos
 from vehicle_agents.core.neighbour_filter import EMPTY_BANK, FilterNoise, TrackBank
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
 from vehicle_agents.core.relay import relay_copies, unpacked
+from vehicle_agents.core.relay_admission import admitted
 from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
 from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
@@ -98,6 +99,8 @@ class OnboardState:
     seq: tuple[int, ...]
     tracks: tuple[TrackBank, ...] = ()
     """Each drone's neighbour filter (empty while the filter is off)."""
+    refused_copies: tuple[int, ...] = ()
+    """Each drone's count of relayed copies refused as impossible (:mod:`vehicle_agents.core.relay_admission`)."""
 
 
 @dataclass(frozen=True)
@@ -136,6 +139,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     departed = list(state.departed)
     seq = list(state.seq)
     tracks = list(state.tracks) if state.tracks else [EMPTY_BANK] * n
+    refused_copies = list(state.refused_copies) if state.refused_copies else [0] * n
     noise = filter_noise(params) if params.neighbour_filter else None
     timeout_s = table_hold_s(params) if noise is not None else params.neighbour_timeout_s
     actions: list[Action] = []
@@ -154,7 +158,9 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         vid = plan.vehicle_ids[i]
         inbox = inputs.inbox[i] if inputs.inbox else EMPTY_INBOX
         if params.relay_max_hops > 0 and inbox.states:
-            inbox = replace(inbox, states=unpacked(inbox.states))
+            states, refused = admitted(unpacked(inbox.states), heard[i], t_s, params.state_rate_hz)
+            inbox = replace(inbox, states=states)
+            refused_copies[i] += refused
         heard[i], departed[i] = heard_after(heard[i], departed[i], inbox, vid, t_s, timeout_s)
         if noise is not None:
             tracks[i] = track_step(tracks[i], inbox.states, departed[i], vid, noise)
@@ -178,7 +184,8 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         messages.append(_with_relayed(message, heard[i], vid, t_s, seq[i], params))
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
-                        departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks))
+                        departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks),
+                        refused_copies=tuple(refused_copies))
     return outputs, new_state
 
 

@@ -23,3 +23,21 @@ def test_children_get_their_plan_file_and_no_scenario() -> None:
     for command, name in zip(commands, ("fleet.json", "cameras.json", "agent_3.json")):
         assert command[command.index("--plan") + 1] == str(plan_dir / name)
         assert "--scenario" not in command and "--set" not in command
+
+
+def test_agents_on_other_hosts_reach_the_fleet_and_the_hub_routes() -> None:
+    """``--no-agents --fleet-bind 0.0.0.0 --onboard-partner``: the fleet gets the addresses, the hub is a router."""
+    from gcs.mission.cli import parse_options
+    from gcs.processes import process_options
+    from gcs.processes.launch import hub_config
+    from gcs.scenario import load_scenario
+
+    mission = parse_options(["circle", "--no-agents", "--fleet-bind", "0.0.0.0", "--onboard-partner", "1-7=10.0.0.2",
+                             "--onboard-partner", "8-13=10.0.1.2"])
+    options = process_options(load_scenario("circle"), mission)
+    command = sim_command(options, Path("fleet.json"))
+    assert command[command.index("--bind") + 1] == "0.0.0.0"
+    assert [command[i + 1] for i, a in enumerate(command) if a == "--onboard-partner"] == ["1-7=10.0.0.2", "8-13=10.0.1.2"]
+    assert not options.start_agents and hub_config(options).mode == "router"
+    assert hub_config(ProcessOptions(scenario_arg="circle")).mode == "peer"
+    assert "--bind" not in sim_command(ProcessOptions(scenario_arg="circle"), Path("fleet.json"))
