@@ -55,7 +55,6 @@ def run(n: int, steps: int) -> dict[str, float]:
     for k in range(steps):
         states = [msgspec.structs.replace(m, relayed=c) for m, c in zip(states_at(n, k), copies)]
         t_s = k * DT_S + 0.1
-        cache: dict = {}
         for i in range(n):
             c0 = time.process_time()
             inbox_states, _ = admitted(unpacked(states), tables[i], t_s, params.state_rate_hz)
@@ -65,7 +64,7 @@ def run(n: int, steps: int) -> dict[str, float]:
             [neighbour_info(m, t_s - m.t_s) for _, m in sorted(tables[i].items())]
             c3 = time.process_time()
             banks[i] = track_step(banks[i], inbox_states, frozenset(), i + 1, noise)
-            banks[i], _ = filtered_infos(banks[i], tables[i], t_s, noise, cache)
+            banks[i], _ = filtered_infos(banks[i], tables[i], t_s, noise)
             c4 = time.process_time()
             copies[i] = relay_copies(tables[i], i + 1, t_s, k + 1, params.relay_max_hops, params.relay_max_age_s,
                                      params.relay_budget_bytes)

@@ -28,7 +28,14 @@ import numpy as np
 from comms.messages import CameraFrame, MissionCommand
 from vehicle_agents.autopilot_link import AutopilotLink, AutopilotLinkError, AutopilotTelemetry
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.core.onboard import GroundOrder, OnboardInputs, OnboardPlan, initial_state, onboard_step
+from vehicle_agents.core.onboard import (
+    GroundOrder,
+    OnboardInputs,
+    OnboardOutputs,
+    OnboardPlan,
+    initial_state,
+    onboard_step,
+)
 from vehicle_agents.core.telemetry import telemetry_batch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseLimits
 from vehicle_agents.mission_clock import MissionClock
@@ -149,72 +156,103 @@ class Agent:
             self.swarm.close()
 
     async def _run(self) -> int:
+        """Connect, then one control tick per clock tick until the core says exit; returns the exit code."""
+        if not await self._connect():
+            return EXIT_START_FAILED
+        period_wall_s = self.clock.wall_period_s(1.0 / self.config.control_rate_hz)
+        next_tick_s = time.monotonic()
+        while True:
+            self._t_s = await self._next_paced_tick() if self.config.paced else self.clock.now_s()
+            started = time.monotonic()
+            outputs = self._compute_tick(started)
+            if outputs.actions[0] is Action.EXIT:
+                exit_code = self._leave(outputs)
+                break
+            await self._act(outputs, started)
+            if not self.config.paced:
+                next_tick_s = await self._sleep_until(next_tick_s + period_wall_s)
+        self._finish()
+        return exit_code
+
+    async def _connect(self) -> bool:
+        """Wait for the autopilot (``connect_timeout_s``); False when it never answered."""
         cfg = self.config
         try:
             await self.link.connect(cfg.connect_timeout_s)
         except AutopilotLinkError as exc:
             log.error("vehicle %d: %s", cfg.vehicle_id, exc)
-            return EXIT_START_FAILED
+            return False
         log.info("vehicle %d (%s): autopilot connected", cfg.vehicle_id, cfg.role)
-        period_wall_s = self.clock.wall_period_s(1.0 / cfg.control_rate_hz)
-        next_tick_s = time.monotonic()
+        return True
+
+    def _compute_tick(self, now_wall_s: float) -> OnboardOutputs:
+        """Gather this tick's inputs, run the onboard core (N = 1) at mission time ``self._t_s`` and log a change
+        of flight phase."""
+        order = self._read_order(now_wall_s)
+        self._update_perception()
+        inputs = OnboardInputs(
+            t_s=self._t_s,
+            telemetry=telemetry_batch([self.link.telemetry], now_wall_s),
+            perception=(self._perception,),
+            inbox=(self.swarm.take_inbox(),),
+            orders=(order,),
+            stop=(self._stop_requested,),
+        )
+        old_phase = self.phase
+        outputs, self.state = onboard_step(self.plan, self.state, inputs)
+        if self.phase is not old_phase:
+            log.info("vehicle %d: %s -> %s%s", self.config.vehicle_id, old_phase.value, self.phase.value,
+                     " (ground station silent)" if self.phase is Phase.HOLDING and order.command is not Command.HOLD
+                     else "")
+            self._on_transition(old_phase, self.phase)
+        return outputs
+
+    def _leave(self, outputs: OnboardOutputs) -> int:
+        """The core said exit: say goodbye (the state message with the leaving flag); the exit code."""
         exit_code = EXIT_OK
-        while True:
-            t_s = await self._next_paced_tick() if cfg.paced else self.clock.now_s()
-            self._t_s = t_s
-            started = time.monotonic()
-            order = self._read_order(started)
-            self._update_perception()
-            inputs = OnboardInputs(
-                t_s=t_s,
-                telemetry=telemetry_batch([self.link.telemetry], started),
-                perception=(self._perception,),
-                inbox=(self.swarm.take_inbox(),),
-                orders=(order,),
-                stop=(self._stop_requested,),
-            )
-            old_phase = self.phase
-            outputs, self.state = onboard_step(self.plan, self.state, inputs)
-            action = outputs.actions[0]
-            if self.phase is not old_phase:
-                log.info("vehicle %d: %s -> %s%s", cfg.vehicle_id, old_phase.value, self.phase.value,
-                         " (ground station silent)" if self.phase is Phase.HOLDING and order.command is not Command.HOLD
-                         else "")
-                self._on_transition(old_phase, self.phase)
-            message = outputs.state_messages[0]
-            if action is Action.EXIT:
-                if self.phase is Phase.LINK_LOST:
-                    log.error("vehicle %d: autopilot silent for %.1f s (vehicle lost); leaving the swarm",
-                              cfg.vehicle_id, cfg.limits.link_timeout_s)
-                    exit_code = EXIT_LINK_LOST
-                if message is not None:
-                    self.swarm.publish_state(message)
-                break
-            velocity = outputs.velocity_setpoint_ned_mps[0]
-            await self._execute(action, (float(velocity[0]), float(velocity[1]), float(velocity[2])),
-                                float(outputs.yaw_ned_rad[0]))
-            if message is not None:
-                self.swarm.publish_state(message)
-            if self.sim_clock is not None:
-                self.sim_clock.acknowledge(t_s)
-            if action is Action.FLY:
-                self.stats.control_steps += 1
-            if self.phase is Phase.MISSION:
-                self.stats.step_wall_s.append(time.monotonic() - started)
-            if cfg.paced:
-                continue
-            next_tick_s += period_wall_s
-            delay_s = next_tick_s - time.monotonic()
-            if delay_s < 0:
-                self.stats.overruns += 1
-                next_tick_s = time.monotonic()
-                delay_s = 0.0
-            await asyncio.sleep(delay_s)
+        if self.phase is Phase.LINK_LOST:
+            log.error("vehicle %d: autopilot silent for %.1f s (vehicle lost); leaving the swarm",
+                      self.config.vehicle_id, self.config.limits.link_timeout_s)
+            exit_code = EXIT_LINK_LOST
+        message = outputs.state_messages[0]
+        if message is not None:
+            self.swarm.publish_state(message)
+        return exit_code
+
+    async def _act(self, outputs: OnboardOutputs, started_wall_s: float) -> None:
+        """Do what the core decided, broadcast the state message, then acknowledge the tick (the simulator's clock
+        moves on only after the setpoint and the state are out)."""
+        action = outputs.actions[0]
+        velocity = outputs.velocity_setpoint_ned_mps[0]
+        await self._execute(action, (float(velocity[0]), float(velocity[1]), float(velocity[2])),
+                            float(outputs.yaw_ned_rad[0]))
+        message = outputs.state_messages[0]
+        if message is not None:
+            self.swarm.publish_state(message)
+        if self.sim_clock is not None:
+            self.sim_clock.acknowledge(self._t_s)
+        if action is Action.FLY:
+            self.stats.control_steps += 1
+        if self.phase is Phase.MISSION:
+            self.stats.step_wall_s.append(time.monotonic() - started_wall_s)
+
+    async def _sleep_until(self, next_tick_s: float) -> float:
+        """Free clock: sleep until ``next_tick_s`` [monotonic s], when the next period starts; after an overrun it
+        starts now instead. Returns the start of that period, which the one after counts from."""
+        delay_s = next_tick_s - time.monotonic()
+        if delay_s < 0:
+            self.stats.overruns += 1
+            next_tick_s = time.monotonic()
+            delay_s = 0.0
+        await asyncio.sleep(delay_s)
+        return next_tick_s
+
+    def _finish(self) -> None:
+        """Close the mission's statistics and tell the simulator's clock this agent is leaving."""
         if self.stats.mission_start_t_s is not None and self.stats.mission_end_t_s is None:
             self.stats.mission_end_t_s = self._t_s
         if self.sim_clock is not None:
             self.sim_clock.acknowledge(self._t_s, leaving=True)
-        return exit_code
 
     async def _next_paced_tick(self) -> float:
         """Mission time of the next clock tick to compute (each tick is computed at its own time).

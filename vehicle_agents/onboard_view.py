@@ -54,12 +54,20 @@ def own_state(tel: AutopilotTelemetry, pad_enu_m: Sequence[float], has_gps: bool
 def neighbour_info(msg: HeardState, age_s: float) -> NeighbourInfo:
     """One neighbour's message as the control law reads it, ``age_s`` old (what only the wire carries, such as the
     ring radius in ``extras``, comes through here in both engines)."""
+    return neighbour_info_at(msg, np.array(msg.position_en_m, dtype=float), np.array(msg.velocity_en_mps, dtype=float),
+                             age_s)
+
+
+def neighbour_info_at(msg: HeardState, position_en_m: NDArray[np.float64], velocity_en_mps: NDArray[np.float64],
+                      age_s: float) -> NeighbourInfo:
+    """One neighbour's message as the control law reads it, with the position [m; E, N] and velocity [m/s; E, N]
+    given (the neighbour filter's estimate instead of the message's own)."""
     ring_radius_m = msg.extras.get("ring_radius_m")
     return NeighbourInfo(
         vehicle_id=msg.sender_id,
         role=msg.role,
-        position_en_m=np.array(msg.position_en_m, dtype=float),
-        velocity_en_mps=np.array(msg.velocity_en_mps, dtype=float),
+        position_en_m=position_en_m,
+        velocity_en_mps=velocity_en_mps,
         altitude_m=msg.altitude_m,
         age_s=age_s,
         group=msg.group or None,

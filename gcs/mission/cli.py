@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import os
 import sys
 from collections.abc import Sequence
@@ -44,6 +45,9 @@ def build_parser() -> argparse.ArgumentParser:
                              "different one; free runs at --speed whatever they do (real-time faults)")
     parser.add_argument("--agent-timeout-s", type=float, default=2.0, metavar="S",
                         help="paced clock: wall seconds an agent may hold a tick before it is left behind (default 2)")
+    parser.add_argument("--startup-timeout-s", type=float, default=60.0, metavar="S",
+                        help="processes engine: wall seconds start-up may go without one more agent connecting "
+                             "before the run fails as stalled (default 60; a slow start that progresses goes on)")
     parser.add_argument("--strict", action="store_true",
                         help="exit 1 when the engine was degraded (agents or cameras below their rate, agents left "
                              "behind), not only when the mission failed")
@@ -101,6 +105,8 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
             _fail(f"--{name.replace('_', '-')}: must be a port number, got {getattr(ns, name)}")
     if not ns.agent_timeout_s > 0.0:
         _fail(f"--agent-timeout-s: must be > 0, got {ns.agent_timeout_s:g}")
+    if not 0.0 < ns.startup_timeout_s < math.inf:
+        _fail(f"--startup-timeout-s: must be a finite number of seconds > 0, got {ns.startup_timeout_s:g}")
     if ns.clock is not None and ns.engine != "processes":
         _fail(f"--clock {ns.clock}: only the processes engine has a clock to choose (lockstep is one loop)")
     if ns.backend is not None and ns.engine != "lockstep":
@@ -124,8 +130,9 @@ def parse_options(argv: Sequence[str]) -> MissionOptions:
         scenario=ns.scenario, engine=ns.engine, mode=ns.mode, seed=ns.seed, duration_s=ns.duration, speed=ns.speed,
         out_dir=out, overrides=tuple(ns.overrides), base_port=ns.base_port, gcs_port=ns.gcs_port, live=ns.live,
         backend=ns.backend or "kinematic", clock=ns.clock or "paced", agent_timeout_s=ns.agent_timeout_s,
-        strict=ns.strict, key_file=ns.key_file, dashboard_port=ns.dashboard_port if ns.dashboard else None,
-        dashboard_host=ns.dashboard_host, dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
+        startup_timeout_s=ns.startup_timeout_s, strict=ns.strict, key_file=ns.key_file,
+        dashboard_port=ns.dashboard_port if ns.dashboard else None, dashboard_host=ns.dashboard_host,
+        dashboard_token=ns.dashboard_token, dashboard_tiles=ns.tiles,
         start_agents=ns.start_agents, fleet_bind=ns.fleet_bind, onboard_partners=tuple(ns.onboard_partner),
     )
 

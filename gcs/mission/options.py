@@ -42,6 +42,8 @@ class MissionOptions:
     clock: str = "paced"
     agent_timeout_s: float = 2.0
     """Paced clock: wall seconds an agent may hold a tick before the clock goes on without it."""
+    startup_timeout_s: float = 60.0
+    """Processes engine: wall seconds start-up may go without one more agent connecting before the run fails."""
     strict: bool = False
     """Exit non-zero when the engine was degraded (an agent or the cameras did not keep their rate)."""
     key_file: Path | None = None

@@ -14,7 +14,7 @@ from comms.messages import NeighbourState
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.types import NeighbourInfo
 from vehicle_agents.core.neighbour_filter import FilterNoise, TrackBank, at_time, update, without
-from vehicle_agents.onboard_view import neighbour_info
+from vehicle_agents.onboard_view import neighbour_info_at
 
 _LONGEST_HOLD_S = 60.0
 
@@ -46,23 +46,15 @@ def track_step(bank: TrackBank, states: Sequence[NeighbourState], departed: froz
     return update(without(bank, departed), list(firsts.values()), noise)
 
 
-def filtered_infos(bank: TrackBank, table: Mapping[int, NeighbourState], t_s: float, noise: FilterNoise,
-                   converted: dict[int, NeighbourInfo] | None = None) -> tuple[TrackBank, list[NeighbourInfo]]:
-    """The live tracks at ``t_s`` (the others dropped at the bound) as the laws read them, in id order.
-
-    ``converted`` caches each message's conversion by object id across the drones of one step (in lockstep one
-    decoded message reaches many receivers); only position and velocity differ per receiver.
-    """
+def filtered_infos(bank: TrackBank, table: Mapping[int, NeighbourState], t_s: float,
+                   noise: FilterNoise) -> tuple[TrackBank, list[NeighbourInfo]]:
+    """The live tracks at ``t_s`` (the others dropped at the bound) as the laws read them, in id order: position and
+    velocity from the track (views into the predicted states), the rest from the newest message (its own
+    kinematics are not read, so nothing of it is converted)."""
     bank, x, _ = at_time(bank, t_s, noise)
-    cache = {} if converted is None else converted
     infos = []
     for row, vid in enumerate(bank.ids.tolist()):
         msg = table.get(vid)
-        if msg is None:
-            continue
-        base = cache.get(id(msg))
-        if base is None:
-            base = cache[id(msg)] = neighbour_info(msg, 0.0)
-        infos.append(NeighbourInfo(base.vehicle_id, base.role, x[row, :2], x[row, 2:], base.altitude_m, 0.0,
-                                   base.group, base.leading, base.encircled, base.ring_radius_m))
+        if msg is not None:
+            infos.append(neighbour_info_at(msg, x[row, :2], x[row, 2:], 0.0))
     return bank, infos

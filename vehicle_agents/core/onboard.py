@@ -153,7 +153,6 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     yaws = np.zeros(n)
     messages: list[NeighbourState | None] = []
     converted: dict[int, NeighbourInfo] = {}
-    filtered_cache: dict[int, NeighbourInfo] = {}
     for i in range(n):
         tel = inputs.telemetry.vehicle(i)
         order = inputs.orders[i]
@@ -170,7 +169,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
         perception, trust[i] = trusted_result(inputs.perception[i], own.position_en_m, t_s, trust[i])
         if action is Action.FLY:
-            tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted, filtered_cache)
+            tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
             start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
             velocity, memories[i] = control_step(plan.roles[i], memories[i], own, perception, infos, params,
                                                  max(0.0, t_s - start_s))
@@ -209,12 +208,11 @@ def _hear(inbox: Inbox, heard: Mapping[int, HeardState], departed: frozenset[int
 
 
 def _neighbour_infos(table: Mapping[int, HeardState], track: TrackBank, t_s: float, noise: FilterNoise | None,
-                     converted: dict[int, NeighbourInfo],
-                     filtered_cache: dict[int, NeighbourInfo]) -> tuple[TrackBank, list[NeighbourInfo]]:
+                     converted: dict[int, NeighbourInfo]) -> tuple[TrackBank, list[NeighbourInfo]]:
     """What the laws read of the neighbours: the filtered estimates at ``t_s`` when the neighbour filter is on,
     else the last message heard from each (converted once per message and shared across the fleet's drones)."""
     if noise is not None:
-        return filtered_infos(track, table, t_s, noise, filtered_cache)
+        return filtered_infos(track, table, t_s, noise)
     infos = []
     for sender in sorted(table):
         msg = table[sender]

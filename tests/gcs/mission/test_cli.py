@@ -26,6 +26,11 @@ REPO = Path(__file__).resolve().parents[3]
         (["circle", "--backend", "px4"], "--backend"),
         (["circle", "--engine", "lockstep", "--backend", "gazebo"], "--backend"),
         (["circle", "--key-file", "/nonexistent/mission.key"], "--key-file: key file /nonexistent/mission.key"),
+        (["circle", "--startup-timeout-s", "0"], "--startup-timeout-s"),
+        (["circle", "--startup-timeout-s", "-5"], "--startup-timeout-s"),
+        (["circle", "--startup-timeout-s", "inf"], "--startup-timeout-s"),
+        (["circle", "--startup-timeout-s", "nan"], "--startup-timeout-s"),
+        (["circle", "--startup-timeout-s", "soon"], "--startup-timeout-s"),
     ],
 )
 def test_bad_input_prints_one_line_and_exits_2(argv: list[str], needle: str, capsys: pytest.CaptureFixture[str]) -> None:
@@ -65,6 +70,15 @@ def test_options_and_default_out_dir() -> None:
     assert parse_options(["circle"]).engine == "processes"
     out = default_out_dir("circle", "lockstep", "paper")
     assert out.parent == Path("runs") and out.name.endswith("-circle-lockstep-paper")
+
+
+def test_startup_timeout_reaches_the_processes_engine() -> None:
+    from gcs.processes import process_options
+    from gcs.scenario import load_scenario
+
+    scenario = load_scenario("circle")
+    assert process_options(scenario, parse_options(["circle"])).startup_timeout_s == 60.0
+    assert process_options(scenario, parse_options(["circle", "--startup-timeout-s", "7.5"])).startup_timeout_s == 7.5
 
 
 @pytest.mark.parametrize("backend", ["kinematic", "px4"])
