@@ -212,6 +212,7 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path, 
     assert losses[0]["recovery_time_s"] is not None and losses[0]["recovery_time_s"] < 15.0, losses
 
 
+@pytest.mark.slow
 def test_vehicle_killed_mid_mission_its_agent_leaves_and_the_gcs_reports_it(
     tmp_path: Path, udp_ports: Callable[[int], int],
 ) -> None:

@@ -125,6 +125,7 @@ def _worker_processes(root: psutil.Process) -> list[psutil.Process]:
 
 
 @pytest.mark.integration
+@pytest.mark.slow
 def test_a_killed_worker_has_its_runs_retried(tmp_path: Path, started: list[subprocess.Popen]) -> None:
     out = tmp_path / "camp"
     proc = subprocess.Popen([sys.executable, "-m", "gcs.campaign", "circle", "--seeds", "1-3", *SHORT,
