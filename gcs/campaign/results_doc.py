@@ -95,7 +95,7 @@ CAMPAIGNS: tuple[Campaign, ...] = (
     Campaign("terrain", "terrain", "1-5"),
     Campaign("large", "large", "1-5"),
     Campaign("circle-pdot", "circle", "1-20", ("control.pdot_reading=full,none",)),
-    Campaign("breach", "breach", "1-3"),
+    Campaign("breach", "breach", "1-5"),
     Campaign("river", "river", "1-2"),
     Campaign("pluvial", "pluvial", "1-2"),
     Campaign(LOSS_CAMPAIGN, "circle", "1-20", (LOSS_GRID,), (Mode.IMPROVED,), RADIO_FIXED),
