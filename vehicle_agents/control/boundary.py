@@ -4,7 +4,8 @@ wrapped in Algorithm 1 (climb while only land or only water is in view).
 Paper mode: every drone of a group flies u_c until it knows the ring is closed; spacing comes from β alone
 (among boundary drones heard, eq 6). Improved mode: only each group's leading drone flies u_c (at a faster
 speed); the others keep equal gaps to their ring neighbours (:mod:`ring_spacing`), and a short-range push from
-every heard boundary drone (:mod:`safety`: followers and the leader give way) replaces β.
+every heard boundary drone (:mod:`safety`: followers and the leader give way) replaces β; with the edge out of
+view it leaves the ring's motion and searches around the last edge it saw (:mod:`edge_search`).
 """
 
 from __future__ import annotations
@@ -16,9 +17,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mission_plan.control_params import ControlMode
+from mission_plan.geometry import footprint_side_m
 from mission_plan.roster import RosterEntry
 from vehicle_agents.control.beta import separation_velocity
 from vehicle_agents.control.edge_rate import feedforward, update_edge_rate
+from vehicle_agents.control.edge_search import LastEdge, is_searching, search_velocity
 from vehicle_agents.control.encircle import (
     encircle_velocity,
     heard_encircled,
@@ -33,9 +36,6 @@ from vehicle_agents.control.safety import safety_velocity, yielded_to
 from vehicle_agents.control.types import ROLE_BOUNDARY, NeighbourInfo, OwnState
 from vehicle_agents.control.vision_tracking import altitude_rate_mps, tracked_offset_en_m, tracking_velocity
 from vehicle_agents.perception.result import PerceptionResult
-
-_SEARCH_SPEED_MPS = 0.5
-"""Improved mode, no edge in view: drift back across the last seen edge at this speed while climbing."""
 
 
 def _positions(neighbours: Sequence[NeighbourInfo]) -> NDArray[np.float64]:
@@ -77,8 +77,22 @@ def boundary_step(
         encircled = meets_other_leader(entry, q, sign * tangent, boundary_nbrs, travelled, params)
     encircled_t_s = memory.encircled_t_s if memory.encircled else (t_s if encircled else None)
 
-    velocity = _edge_velocity(offset, edge_rate.rate_en_mps, normal, perception, params)
-    _add_ring_velocity(velocity, q, entry, tangent, neighbours, leading, encircled, params)
+    last_edge = memory.last_edge
+    if offset is not None and tangent is not None and normal is not None:
+        last_edge = LastEdge(q + offset, normal, tangent, t_s)
+    one_class = perception is not None and (perception.only_land or perception.only_water)
+    sweep_sign = 0.0
+    if (offset is None and params.mode == ControlMode.IMPROVED and last_edge is not None
+            and is_searching(last_edge, one_class, t_s)):
+        velocity, sweep_sign = search_velocity(
+            q, last_edge, memory.sweep_sign, perception is not None and perception.only_land,
+            perception is not None and perception.only_water, t_s,
+            float(footprint_side_m(params.nominal_altitude_m, params.fov_deg)))
+        velocity += safety_velocity(q, _positions(yielded_to(ROLE_BOUNDARY, neighbours)), params.safety_radius_m,
+                                    params.safety_gain_mps)
+    else:
+        velocity = _edge_velocity(offset, edge_rate.rate_en_mps, normal, params)
+        _add_ring_velocity(velocity, q, entry, tangent, neighbours, leading, encircled, params)
     speed = float(np.hypot(velocity[0], velocity[1]))
     if speed > params.max_speed_mps:
         velocity *= params.max_speed_mps / speed
@@ -99,22 +113,19 @@ def boundary_step(
         encircled_t_s=encircled_t_s,
         travelled_m=travelled,
         edge_points_en_m=edge_points,
+        last_edge=last_edge,
+        sweep_sign=sweep_sign,
     )
     return np.array([velocity[0], velocity[1], climb_mps]), new_memory
 
 
 def _edge_velocity(offset: NDArray[np.float64] | None, edge_rate_en_mps: NDArray[np.float64] | None,
-                   normal: NDArray[np.float64] | None, perception: PerceptionResult | None,
-                   params: ControlParams) -> NDArray[np.float64]:
-    """Eq 5 towards the edge seen (with the ṗ feed-forward), or, in improved mode with only land or only water in
-    view, a search along the last edge normal while Algorithm 1 climbs."""
+                   normal: NDArray[np.float64] | None, params: ControlParams) -> NDArray[np.float64]:
+    """Eq 5 towards the edge seen, with the ṗ feed-forward (zero without an edge in view)."""
     velocity = np.zeros(2)
     if offset is not None:
         ff = feedforward(edge_rate_en_mps, normal, params.pdot_reading)
         velocity += tracking_velocity(offset, params.k_boundary_per_s, ff)
-    elif (params.mode == ControlMode.IMPROVED and normal is not None and perception is not None
-            and (perception.only_land or perception.only_water)):
-        velocity += (_SEARCH_SPEED_MPS if perception.only_water else -_SEARCH_SPEED_MPS) * normal
     return velocity
 
 

@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vehicle_agents.control.edge_rate import EdgeRateState
+from vehicle_agents.control.edge_search import LastEdge
 from vehicle_agents.control.params import RosterEntry
 
 
@@ -36,3 +37,7 @@ class ControlMemory:
     ring_radius_m: float | None = None
     edge_points_en_m: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
     """The last edge points seen, absolute [m; E, N]: what a boundary drone reports to the ground station."""
+    last_edge: LastEdge | None = None
+    """Improved mode: the last edge acted on, the anchor of the search while the edge is out of view."""
+    sweep_sign: float = 0.0
+    """Improved mode, searching: the sweep's direction across the last edge (+1 towards land), 0 when not searching."""

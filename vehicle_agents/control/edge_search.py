@@ -1,0 +1,98 @@
+"""Improved mode: where a boundary drone flies while its camera shows no edge, kept within reach of the last edge.
+
+Algorithm 1 (paper, line 8; SPEC §2) only climbs while the image holds one class; eq 8's ``u_c`` and, in the
+improved mode, the ring spacing keep pushing the drone along the last tangent it saw. On a straight line that
+tangent leaves a curved flood: a leading drone at 3 m/s is 30 m out after 10 s, beyond what any climb brings back
+into view, and the ring opens (turbid water beside brown soil, where a thin strip of water is missed, did exactly
+that). So once the edge is out of view (a one-class frame, or no usable frame for longer than :data:`HOLD_S`), the
+drone stops moving along the ring and searches around the last edge it trusted:
+
+* along that edge's tangent it returns to the point where it last saw the edge;
+* across it, it sweeps back and forth over the edge line at :data:`SEARCH_SPEED_MPS`, first towards the side the
+  frame says the edge lies (only land: towards the water side of the last normal; only water: towards the land
+  side; no frame: towards the line), turning back at a reach that grows from half a footprint at the nominal
+  altitude by :data:`REACH_GROWTH_MPS` per second lost, never beyond :data:`MAX_REACH_FOOTPRINTS` footprints.
+
+Algorithm 1's climb goes on meanwhile (footprint grows), so the sweep and the wider view meet the edge again.
+Pure: positions are the drone's own estimate, in the mission frame of its odometry, like the anchor.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+HOLD_S = 1.0
+"""Without any usable frame, the drone holds its track (keeps its ring motion) this long after the last edge [s]:
+the doubtful-frame hold of :mod:`vehicle_agents.perception.edge_trust`."""
+SEARCH_SPEED_MPS = 1.0
+"""Speed of the sweep across the last edge line, and the fastest return along it [m/s]."""
+RETURN_GAIN_PER_S = 0.5
+"""Along the last tangent the drone returns to where it saw the edge at this rate (capped at the sweep speed)."""
+REACH_GROWTH_MPS = 0.5
+"""The sweep's reach from the edge line grows by this much per second lost [m/s] ..."""
+MAX_REACH_FOOTPRINTS = 2.0
+"""... up to this many footprint sides at the nominal altitude."""
+
+TOWARDS_LAND = 1.0
+TOWARDS_WATER = -1.0
+
+
+@dataclass(frozen=True)
+class LastEdge:
+    """The last edge a boundary drone acted on: a point of it [m; mission E, N], its unit normal (water to land),
+    its unit tangent (water on the left), and when [s]."""
+
+    point_en_m: NDArray[np.float64]
+    normal_en: NDArray[np.float64]
+    tangent_en: NDArray[np.float64]
+    t_s: float
+
+
+def is_searching(last_edge: LastEdge, one_class_frame: bool, t_s: float) -> bool:
+    """With no edge in view, is the search due? On a frame of one class at once; without a usable frame, once the
+    last edge is more than :data:`HOLD_S` old (until then the drone holds its track)."""
+    return one_class_frame or t_s - last_edge.t_s > HOLD_S
+
+
+def reach_m(lost_s: float, footprint_side_m: float) -> float:
+    """How far from the last edge line the sweep goes [m] after ``lost_s`` without the edge."""
+    start = 0.5 * footprint_side_m
+    return min(start + REACH_GROWTH_MPS * max(lost_s, 0.0), MAX_REACH_FOOTPRINTS * footprint_side_m)
+
+
+def first_sweep_sign(only_land: bool, only_water: bool, across_m: float) -> float:
+    """Where the sweep starts: towards the water side over land, the land side over water, else towards the line."""
+    if only_land:
+        return TOWARDS_WATER
+    if only_water:
+        return TOWARDS_LAND
+    return TOWARDS_WATER if across_m > 0.0 else TOWARDS_LAND
+
+
+def search_velocity(
+    own_en_m: NDArray[np.float64],
+    last_edge: LastEdge,
+    sweep_sign: float,
+    only_land: bool,
+    only_water: bool,
+    t_s: float,
+    footprint_side_m: float,
+) -> tuple[NDArray[np.float64], float]:
+    """(horizontal velocity [m/s; E, N], the sweep direction to remember) of a drone searching for the edge.
+
+    ``sweep_sign`` is the direction remembered from the previous step (+1 towards the land side of the last edge,
+    -1 towards the water side, 0 when the search starts). The sweep turns back when it reaches :func:`reach_m`
+    from the line, so the drone never leaves the band of width 2 x reach around it, nor strays along it.
+    """
+    offset = np.asarray(own_en_m, dtype=float) - last_edge.point_en_m
+    across = float(offset @ last_edge.normal_en)
+    along = float(offset @ last_edge.tangent_en)
+    sign = sweep_sign if sweep_sign != 0.0 else first_sweep_sign(only_land, only_water, across)
+    if sign * across >= reach_m(t_s - last_edge.t_s, footprint_side_m):
+        sign = -sign
+    along_mps = float(np.clip(-RETURN_GAIN_PER_S * along, -SEARCH_SPEED_MPS, SEARCH_SPEED_MPS))
+    velocity = sign * SEARCH_SPEED_MPS * last_edge.normal_en + along_mps * last_edge.tangent_en
+    return velocity, sign
