@@ -104,6 +104,12 @@ def safety_filter(
     A control-barrier style filter, applied neighbour by neighbour, nearest last so that it has the final word; with
     several close neighbours the constraints are projected on cyclically (:data:`_PASSES` rounds) so that a later
     correction seldom undoes an earlier one.
+
+    Inside the minimum of several neighbours at once (a crowd at launch, pads closer than the minimum) the demands
+    to move away can contradict each other (one neighbour north, one south); the nearest then won and the drone
+    could close on the other at full speed. So when any neighbour is inside the minimum, a second round projects
+    on the same constraints with "move away" relaxed to "do not close" (``v_h · u``): separating is wished for,
+    not closing is kept. A command that already meets every constraint passes both rounds unchanged.
     """
     v = np.asarray(velocity_en_mps, dtype=float).copy()
     others = np.asarray(others_en_m, dtype=float).reshape(-1, 2)
@@ -120,6 +126,7 @@ def safety_filter(
     east, north = diff[:, 0].tolist(), diff[:, 1].tolist()
     heard_v = None if others_velocity_en_mps is None else np.asarray(others_velocity_en_mps, dtype=float).tolist()
     constraints = []
+    relaxed = []
     for k in close:
         x = distance[k]
         ux, uy = east[k] / x, north[k] / x
@@ -127,15 +134,24 @@ def safety_filter(
         allowed = closing_rate_per_s * gap_m
         if braking_mps2 > 0.0 and gap_m > 0.0:
             allowed = min(allowed, stopping_speed_mps(gap_m, braking_mps2, reaction_s))
-        if heard_v is not None:
-            allowed += heard_v[k][0] * ux + heard_v[k][1] * uy
-        constraints.append((ux, uy, allowed))
-    vx, vy = float(v[0]), float(v[1])
-    for _ in range(_PASSES if len(close) > 1 else 1):
+        own_closing = heard_v[k][0] * ux + heard_v[k][1] * uy if heard_v is not None else 0.0
+        constraints.append((ux, uy, allowed + own_closing))
+        relaxed.append((ux, uy, max(allowed, 0.0) + own_closing))
+    passes = _PASSES if len(close) > 1 else 1
+    vx, vy = _project(float(v[0]), float(v[1]), constraints, passes)
+    if relaxed != constraints:
+        vx, vy = _project(vx, vy, relaxed, passes)
+    v[0], v[1] = vx, vy
+    return v
+
+
+def _project(vx: float, vy: float, constraints: Sequence[tuple[float, float, float]], passes: int
+             ) -> tuple[float, float]:
+    """Cyclic projection of (vx, vy) onto the half-planes ``v · (ux, uy) <= allowed``, in the given order."""
+    for _ in range(passes):
         for ux, uy, allowed in constraints:
             along = vx * ux + vy * uy
             if along > allowed:
                 vx -= (along - allowed) * ux
                 vy -= (along - allowed) * uy
-    v[0], v[1] = vx, vy
-    return v
+    return vx, vy

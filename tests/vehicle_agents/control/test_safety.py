@@ -72,3 +72,15 @@ def test_a_barrier_switched_on_only_5_m_out_acts_too_late() -> None:
     """The case the braking horizon exists for: a linear barrier that looks 5 m out cannot stop 8 m/s closing."""
     params = ControlParams(mode="improved")
     assert _head_on_min_distance(0.0, params.safety_radius_m) < 0.5 * params.safety_min_distance_m
+
+
+def test_boxed_in_inside_the_minimum_the_barrier_closes_on_nobody() -> None:
+    """Launch crowd: neighbours north (1.4 m), south (2.25 m) and west (1.4 m), all inside the 2.5 m minimum. Moving
+    away from all of them at once is impossible; the command must at least close on none of them."""
+    others = np.array([[0.0, 1.42], [0.0, -2.25], [-1.38, -0.2]])
+    v = safety_filter(np.array([2.9, -2.1]), np.zeros(2), others, 2.5, 32.5, 1.0, np.zeros((3, 2)),
+                      braking_mps2=2.0, reaction_s=0.5)
+    towards = others / np.hypot(others[:, 0], others[:, 1])[:, None]
+    assert np.all(towards @ v <= 1e-9)
+    assert v[0] > 2.0  # east, the free side, is still open
+
