@@ -21,7 +21,7 @@ from mission_plan.geometry import footprint_side_m
 from mission_plan.roster import RosterEntry
 from vehicle_agents.control.beta import separation_velocity
 from vehicle_agents.control.edge_rate import feedforward, update_edge_rate
-from vehicle_agents.control.edge_search import LastEdge, is_searching, search_velocity
+from vehicle_agents.control.edge_search import LastEdge, is_searching, launch_edge, search_velocity
 from vehicle_agents.control.encircle import (
     encircle_velocity,
     heard_encircled,
@@ -81,6 +81,8 @@ def boundary_step(
     if offset is not None and tangent is not None and normal is not None:
         last_edge = LastEdge(q + offset, normal, tangent, t_s)
     one_class = perception is not None and (perception.only_land or perception.only_water)
+    if last_edge is None and one_class and params.mode == ControlMode.IMPROVED:
+        last_edge = launch_edge(params.roster, entry.vehicle_id, t_s)
     sweep_sign = 0.0
     if (offset is None and params.mode == ControlMode.IMPROVED and last_edge is not None
             and is_searching(last_edge, one_class, t_s)):

@@ -14,15 +14,25 @@ drone stops moving along the ring and searches around the last edge it trusted:
   altitude by :data:`REACH_GROWTH_MPS` per second lost, never beyond :data:`MAX_REACH_FOOTPRINTS` footprints.
 
 Algorithm 1's climb goes on meanwhile (footprint grows), so the sweep and the wider view meet the edge again.
+
+A drone whose camera has shown only land or only water since take-off (a thin strip of turbid water at the
+image's border is easily missed) has no edge of its own yet; the plan gives it one (:func:`launch_edge`): SPEC §4
+puts the boundary drones in a column along the edge tangent through the launch point, the leader and the followers
+in columns behind them, away from the flood. So its pad lies on that line and the water is on the far side of the
+boundary column from the others' pads. Without this it climbed in place to the ceiling for the whole mission.
 Pure: positions are the drone's own estimate, in the mission frame of its odometry, like the anchor.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+
+from mission_plan.roles import ROLE_BOUNDARY
+from mission_plan.roster import RosterEntry
 
 HOLD_S = 1.0
 """Without any usable frame, the drone holds its track (keeps its ring motion) this long after the last edge [s]:
@@ -49,6 +59,22 @@ class LastEdge:
     normal_en: NDArray[np.float64]
     tangent_en: NDArray[np.float64]
     t_s: float
+
+
+def launch_edge(roster: Sequence[RosterEntry], vehicle_id: int, t_s: float) -> LastEdge | None:
+    """The edge the plan implies for ``vehicle_id`` (module doc): through its pad, the normal from the boundary
+    drones' pads towards the other vehicles' pads; None when the roster lacks the pads to say."""
+    own = next((e.pad_en_m for e in roster if e.vehicle_id == vehicle_id), None)
+    boundary = [e.pad_en_m for e in roster if e.role == ROLE_BOUNDARY and e.pad_en_m is not None]
+    behind = [e.pad_en_m for e in roster if e.role != ROLE_BOUNDARY and e.pad_en_m is not None]
+    if own is None or not boundary or not behind:
+        return None
+    away = np.mean(np.asarray(behind, dtype=float), axis=0) - np.mean(np.asarray(boundary, dtype=float), axis=0)
+    length = float(np.hypot(away[0], away[1]))
+    if not length > 1e-6:
+        return None
+    normal = away / length
+    return LastEdge(np.asarray(own, dtype=float), normal, np.array([-normal[1], normal[0]]), t_s)
 
 
 def is_searching(last_edge: LastEdge, one_class_frame: bool, t_s: float) -> bool:

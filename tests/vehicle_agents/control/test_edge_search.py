@@ -10,6 +10,7 @@ from vehicle_agents.control.edge_search import (
     TOWARDS_WATER,
     LastEdge,
     is_searching,
+    launch_edge,
     reach_m,
     search_velocity,
 )
@@ -119,3 +120,35 @@ def test_paper_mode_keeps_algorithm_1_as_printed() -> None:
     """The paper's drone only climbs: u_c carries it along the last tangent, as eq 8 says."""
     path = _fly_losing_the_edge("paper", ONLY_LAND, 20.0)
     assert path[-1, 1] - path[int(2.0 / 0.05), 1] > 15.0
+
+
+# SPEC §4's launch site east of the flood: boundary column along x = 14 (A north, B south), the leader behind it.
+LAUNCH_ROSTER = (
+    RosterEntry(1, "boundary", "A", 0, pad_en_m=(14.0, 1.5)),
+    RosterEntry(2, "boundary", "B", 0, pad_en_m=(14.0, -1.5)),
+    RosterEntry(3, "leader", pad_en_m=(15.5, 0.0)),
+)
+
+
+def test_the_plan_puts_the_first_edge_through_the_pad_with_the_water_away_from_the_other_columns() -> None:
+    edge = launch_edge(LAUNCH_ROSTER, 2, 0.5)
+    assert edge is not None
+    assert edge.point_en_m.tolist() == [14.0, -1.5]
+    assert edge.normal_en == pytest.approx([1.0, 0.0])  # water (west) to land (east)
+    assert edge.tangent_en == pytest.approx([0.0, 1.0])  # water on the left
+    assert launch_edge(LAUNCH_ROSTER[:2], 2, 0.5) is None  # nobody behind the column: nothing to say
+    assert launch_edge((RosterEntry(1, "boundary", "A", 0), RosterEntry(3, "leader")), 1, 0.5) is None
+
+
+def test_a_drone_that_never_saw_the_edge_searches_on_the_flood_side_of_its_pad() -> None:
+    """Only land from take-off (the flood's turbid edge missed at the image border): the drone heads west, towards
+    the flood, instead of climbing in place; without pads in the roster it has nothing to search around."""
+    for roster, moves_west in ((LAUNCH_ROSTER, True), ((RosterEntry(2, "boundary", "B", 0), RosterEntry(3, "leader")), False)):
+        params = ControlParams(mode="improved", roster=roster, encircle_speed_mps=3.0, edge_point_tracking=True)
+        memory = initial_memory("boundary", 2, params)
+        q = np.array([14.0, -1.5])
+        for k in range(60):
+            command, memory = control_step("boundary", memory, OwnState(q.copy(), 10.0), ONLY_LAND, [], params, k * 0.05)
+            q = q + command.velocity_en_mps[:2] * 0.05
+        assert (q[0] < 11.5) == moves_west
+        assert abs(q[1] + 1.5) < 0.1
