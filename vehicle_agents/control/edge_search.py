@@ -3,8 +3,8 @@
 Algorithm 1 (paper, line 8; SPEC §2) only climbs while the image holds one class; eq 8's ``u_c`` and, in the
 improved mode, the ring spacing keep pushing the drone along the last tangent it saw. On a straight line that
 tangent leaves a curved flood: a leading drone at 3 m/s is 30 m out after 10 s, beyond what any climb brings back
-into view, and the ring opens (turbid water beside brown soil, where a thin strip of water is missed, did exactly
-that). So once the edge is out of view (a one-class frame, or no usable frame for longer than :data:`HOLD_S`), the
+into view, and the ring opens (on turbid water beside brown soil a thin strip of water at the image border is
+easily missed, so a drone just outside the edge loses it this way). So once the edge is out of view (a one-class frame, or no usable frame for longer than :data:`HOLD_S`), the
 drone stops moving along the ring and searches around the last edge it trusted:
 
 * along that edge's tangent it returns to the point where it last saw the edge;
@@ -19,7 +19,8 @@ A drone whose camera has shown only land or only water since take-off (a thin st
 image's border is easily missed) has no edge of its own yet; the plan gives it one (:func:`launch_edge`): SPEC §4
 puts the boundary drones in a column along the edge tangent through the launch point, the leader and the followers
 in columns behind them, away from the flood. So its pad lies on that line and the water is on the far side of the
-boundary column from the others' pads. Without this it climbed in place to the ceiling for the whole mission.
+boundary column from the others' pads. Otherwise it would only climb in place, up to the ceiling if the camera
+never finds the water there.
 Pure: positions are the drone's own estimate, in the mission frame of its odometry, like the anchor.
 """
 
