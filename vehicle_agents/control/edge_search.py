@@ -7,7 +7,9 @@ into view, and the ring opens (on turbid water beside brown soil a thin strip of
 easily missed, so a drone just outside the edge loses it this way). So once the edge is out of view (a one-class frame, or no usable frame for longer than :data:`HOLD_S`), the
 drone stops moving along the ring and searches around the last edge it trusted:
 
-* along that edge's tangent it returns to the point where it last saw the edge;
+* along that edge's tangent it keeps its place in a ring it knows of (equal gaps to its two ring neighbours, the
+  improved mode's spacing) or, without one, returns to the point where it last saw the edge; never further along
+  the line from that point than the sweep's reach;
 * across it, it sweeps back and forth over the edge line at :data:`SEARCH_SPEED_MPS`, first towards the side the
   frame says the edge lies (only land: towards the water side of the last normal; only water: towards the land
   side; no frame: towards the line), turning back at a reach that grows from half a footprint at the nominal
@@ -107,19 +109,26 @@ def search_velocity(
     only_water: bool,
     t_s: float,
     footprint_side_m: float,
+    ring_along_mps: float | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """(horizontal velocity [m/s; E, N], the sweep direction to remember) of a drone searching for the edge.
 
     ``sweep_sign`` is the direction remembered from the previous step (+1 towards the land side of the last edge,
     -1 towards the water side, 0 when the search starts). The sweep turns back when it reaches :func:`reach_m`
-    from the line, so the drone never leaves the band of width 2 x reach around it, nor strays along it.
+    from the line, so the drone never leaves the band of width 2 x reach around it. ``ring_along_mps`` is the ring
+    spacing's wish along the last tangent (None without two ring neighbours): taken unless it would carry the drone
+    beyond the reach along the line, where the drone returns towards the point instead.
     """
     offset = np.asarray(own_en_m, dtype=float) - last_edge.point_en_m
     across = float(offset @ last_edge.normal_en)
     along = float(offset @ last_edge.tangent_en)
     sign = sweep_sign if sweep_sign != 0.0 else first_sweep_sign(only_land, only_water, across)
-    if sign * across >= reach_m(t_s - last_edge.t_s, footprint_side_m):
+    reach = reach_m(t_s - last_edge.t_s, footprint_side_m)
+    if sign * across >= reach:
         sign = -sign
-    along_mps = float(np.clip(-RETURN_GAIN_PER_S * along, -SEARCH_SPEED_MPS, SEARCH_SPEED_MPS))
+    if ring_along_mps is not None and not (ring_along_mps * along > 0.0 and abs(along) >= reach):
+        along_mps = ring_along_mps
+    else:
+        along_mps = float(np.clip(-RETURN_GAIN_PER_S * along, -SEARCH_SPEED_MPS, SEARCH_SPEED_MPS))
     velocity = sign * SEARCH_SPEED_MPS * last_edge.normal_en + along_mps * last_edge.tangent_en
     return velocity, sign
