@@ -10,10 +10,12 @@ drone stops moving along the ring and searches around the last edge it trusted:
 * along that edge's tangent it keeps its place in a ring it knows of (equal gaps to its two ring neighbours, the
   improved mode's spacing) or, without one, returns to the point where it last saw the edge; never further along
   the line from that point than the sweep's reach;
-* across it, it sweeps back and forth over the edge line at :data:`SEARCH_SPEED_MPS`, first towards the side the
-  frame says the edge lies (only land: towards the water side of the last normal; only water: towards the land
-  side; no frame: towards the line), turning back at a reach that grows from half a footprint at the nominal
-  altitude by :data:`REACH_GROWTH_MPS` per second lost, never beyond :data:`MAX_REACH_FOOTPRINTS` footprints.
+* across it, it moves at :data:`SEARCH_SPEED_MPS` towards the side the frame says the edge lies (only land:
+  towards the water side of the last normal; only water: towards the land side), so it swings over the edge where
+  the camera misses it; it turns back at a reach from the line that grows from half a footprint at the nominal
+  altitude by :data:`REACH_GROWTH_MPS` per second lost, never beyond :data:`MAX_REACH_FOOTPRINTS` footprints, and
+  then heads back over the line before it listens to the frames again (frames that lie cannot hold it at the
+  bound); without frames it sweeps from bound to bound.
 
 Algorithm 1's climb goes on meanwhile (footprint grows), so the sweep and the wider view meet the edge again.
 
@@ -51,6 +53,8 @@ MAX_REACH_FOOTPRINTS = 2.0
 
 TOWARDS_LAND = 1.0
 TOWARDS_WATER = -1.0
+_TURNED_AT_BOUND = 2.0
+"""A remembered sweep direction of this magnitude: turned back at the reach, heading for the line (module doc)."""
 
 
 @dataclass(frozen=True)
@@ -113,22 +117,26 @@ def search_velocity(
 ) -> tuple[NDArray[np.float64], float]:
     """(horizontal velocity [m/s; E, N], the sweep direction to remember) of a drone searching for the edge.
 
-    ``sweep_sign`` is the direction remembered from the previous step (+1 towards the land side of the last edge,
-    -1 towards the water side, 0 when the search starts). The sweep turns back when it reaches :func:`reach_m`
-    from the line, so the drone never leaves the band of width 2 x reach around it. ``ring_along_mps`` is the ring
+    ``sweep_sign`` is what the previous step returned: 0 when the search starts, else the direction (+1 towards
+    the land side of the last edge, -1 towards the water side), doubled while heading back from the bound. The
+    sweep turns back when it reaches :func:`reach_m` from the line, so the drone never leaves the band of width
+    2 x reach around it. ``ring_along_mps`` is the ring
     spacing's wish along the last tangent (None without two ring neighbours): taken unless it would carry the drone
     beyond the reach along the line, where the drone returns towards the point instead.
     """
     offset = np.asarray(own_en_m, dtype=float) - last_edge.point_en_m
     across = float(offset @ last_edge.normal_en)
     along = float(offset @ last_edge.tangent_en)
-    sign = sweep_sign if sweep_sign != 0.0 else first_sweep_sign(only_land, only_water, across)
+    direction = float(np.sign(sweep_sign)) if sweep_sign != 0.0 else first_sweep_sign(only_land, only_water, across)
+    returning = abs(sweep_sign) == _TURNED_AT_BOUND and direction * across < 0.0
+    if not returning and (only_land or only_water):
+        direction = TOWARDS_WATER if only_land else TOWARDS_LAND
     reach = reach_m(t_s - last_edge.t_s, footprint_side_m)
-    if sign * across >= reach:
-        sign = -sign
+    if direction * across >= reach:
+        direction, returning = -direction, True
     if ring_along_mps is not None and not (ring_along_mps * along > 0.0 and abs(along) >= reach):
         along_mps = ring_along_mps
     else:
         along_mps = float(np.clip(-RETURN_GAIN_PER_S * along, -SEARCH_SPEED_MPS, SEARCH_SPEED_MPS))
-    velocity = sign * SEARCH_SPEED_MPS * last_edge.normal_en + along_mps * last_edge.tangent_en
-    return velocity, sign
+    velocity = direction * SEARCH_SPEED_MPS * last_edge.normal_en + along_mps * last_edge.tangent_en
+    return velocity, direction * (_TURNED_AT_BOUND if returning else 1.0)

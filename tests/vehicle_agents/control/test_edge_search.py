@@ -56,13 +56,33 @@ def test_without_a_frame_the_sweep_heads_for_the_edge_line() -> None:
 
 
 def test_a_misread_frame_can_never_carry_the_drone_away_from_the_last_edge() -> None:
-    """Only land in every frame (turbid water read as soil): the drone sweeps across the last edge line, back and
-    forth, never further from it than the largest reach, and comes back along it to where it saw the edge."""
+    """Only land in every frame (turbid water read as soil): the drone goes to the water side as the frames say,
+    turns back at the reach, comes back over the line and goes out again, ever wider, never further from it than the
+    largest reach; along the edge it comes back to where it saw the edge."""
     path = _sweep((12.0, 6.0), only_land=True, only_water=False, seconds=120.0)
     across = path[:, 0] - 12.0
     assert np.max(np.abs(across)) <= MAX_REACH_FOOTPRINTS * FOOTPRINT_M + SEARCH_SPEED_MPS * 0.05 + 1e-9
-    assert across.min() < -FOOTPRINT_M and across.max() > FOOTPRINT_M  # it did cross to both sides, widening
+    assert across.min() < -FOOTPRINT_M and across.max() >= 0.0  # back over the line after each turn, widening
     assert abs(path[-1, 1]) < 0.1  # back level with the last edge point along the edge
+
+
+def test_frames_that_flip_turn_the_sweep_round_over_the_edge() -> None:
+    """Land until it crosses x = 10 m, water beyond (the edge missed in every frame): it swings about x = 10 m."""
+    q, sign = np.array([12.0, 0.0]), 0.0
+    xs = []
+    for k in range(400):
+        over_land = q[0] > 10.0
+        v, sign = search_velocity(q, EDGE, sign, over_land, not over_land, k * 0.05, FOOTPRINT_M)
+        q = q + v * 0.05
+        xs.append(q[0])
+    assert 9.8 <= min(xs[40:]) and max(xs[40:]) <= 10.2
+
+
+def test_without_frames_the_sweep_goes_from_bound_to_bound() -> None:
+    path = _sweep((12.0, 0.0), only_land=False, only_water=False, seconds=120.0)
+    across = path[:, 0] - 12.0
+    assert across.min() < -FOOTPRINT_M and across.max() > FOOTPRINT_M
+    assert np.max(np.abs(across)) <= MAX_REACH_FOOTPRINTS * FOOTPRINT_M + SEARCH_SPEED_MPS * 0.05 + 1e-9
 
 
 def test_the_reach_grows_from_half_a_footprint_to_its_bound() -> None:
