@@ -89,8 +89,7 @@ def boundary_step(
         velocity, sweep_sign = search_velocity(
             q, last_edge, memory.sweep_sign, perception is not None and perception.only_land,
             perception is not None and perception.only_water, t_s,
-            float(footprint_side_m(params.nominal_altitude_m, params.fov_deg)),
-            _ring_along_mps(q, entry, last_edge.tangent_en, neighbours, leading, encircled, params))
+            float(footprint_side_m(params.nominal_altitude_m, params.fov_deg)))
         velocity += safety_velocity(q, _positions(yielded_to(ROLE_BOUNDARY, neighbours)), params.safety_radius_m,
                                     params.safety_gain_mps)
     else:
@@ -130,18 +129,6 @@ def _edge_velocity(offset: NDArray[np.float64] | None, edge_rate_en_mps: NDArray
         ff = feedforward(edge_rate_en_mps, normal, params.pdot_reading)
         velocity += tracking_velocity(offset, params.k_boundary_per_s, ff)
     return velocity
-
-
-def _ring_along_mps(q: NDArray[np.float64], entry: RosterEntry, tangent: NDArray[np.float64],
-                    neighbours: Sequence[NeighbourInfo], leading: bool, encircled: bool,
-                    params: ControlParams) -> float | None:
-    """The ring spacing's speed along ``tangent`` for a drone between two heard ring neighbours (not a leading drone
-    still encircling), else None."""
-    heard = {n.vehicle_id: n for n in neighbours if n.role == ROLE_BOUNDARY}
-    previous, following = ring_neighbours(entry.vehicle_id, params.ring_order(), heard, encircled)
-    if previous is None or following is None or (leading and not encircled):
-        return None
-    return float(spacing_velocity(q, tangent, previous, following, params.spacing_gain_per_s) @ tangent)
 
 
 def _add_ring_velocity(velocity: NDArray[np.float64], q: NDArray[np.float64], entry: RosterEntry,

@@ -7,9 +7,8 @@ into view, and the ring opens (on turbid water beside brown soil a thin strip of
 easily missed, so a drone just outside the edge loses it this way). So once the edge is out of view (a one-class frame, or no usable frame for longer than :data:`HOLD_S`), the
 drone stops moving along the ring and searches around the last edge it trusted:
 
-* along that edge's tangent it keeps its place in a ring it knows of (equal gaps to its two ring neighbours, the
-  improved mode's spacing) or, without one, returns to the point where it last saw the edge; never further along
-  the line from that point than the sweep's reach;
+* along that edge's tangent it returns to the point where it last saw the edge (its ring neighbours keep their
+  gaps to it there);
 * across it, it moves at :data:`SEARCH_SPEED_MPS` towards the side the frame says the edge lies (only land:
   towards the water side of the last normal; only water: towards the land side), so it swings over the edge where
   the camera misses it; it turns back at a reach from the line that grows from half a footprint at the nominal
@@ -113,16 +112,13 @@ def search_velocity(
     only_water: bool,
     t_s: float,
     footprint_side_m: float,
-    ring_along_mps: float | None = None,
 ) -> tuple[NDArray[np.float64], float]:
     """(horizontal velocity [m/s; E, N], the sweep direction to remember) of a drone searching for the edge.
 
     ``sweep_sign`` is what the previous step returned: 0 when the search starts, else the direction (+1 towards
     the land side of the last edge, -1 towards the water side), doubled while heading back from the bound. The
     sweep turns back when it reaches :func:`reach_m` from the line, so the drone never leaves the band of width
-    2 x reach around it. ``ring_along_mps`` is the ring
-    spacing's wish along the last tangent (None without two ring neighbours): taken unless it would carry the drone
-    beyond the reach along the line, where the drone returns towards the point instead.
+    2 x reach around it.
     """
     offset = np.asarray(own_en_m, dtype=float) - last_edge.point_en_m
     across = float(offset @ last_edge.normal_en)
@@ -134,9 +130,6 @@ def search_velocity(
     reach = reach_m(t_s - last_edge.t_s, footprint_side_m)
     if direction * across >= reach:
         direction, returning = -direction, True
-    if ring_along_mps is not None and not (ring_along_mps * along > 0.0 and abs(along) >= reach):
-        along_mps = ring_along_mps
-    else:
-        along_mps = float(np.clip(-RETURN_GAIN_PER_S * along, -SEARCH_SPEED_MPS, SEARCH_SPEED_MPS))
+    along_mps = float(np.clip(-RETURN_GAIN_PER_S * along, -SEARCH_SPEED_MPS, SEARCH_SPEED_MPS))
     velocity = direction * SEARCH_SPEED_MPS * last_edge.normal_en + along_mps * last_edge.tangent_en
     return velocity, direction * (_TURNED_AT_BOUND if returning else 1.0)

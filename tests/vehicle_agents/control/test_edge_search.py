@@ -173,14 +173,3 @@ def test_a_drone_that_never_saw_the_edge_searches_on_the_flood_side_of_its_pad()
         assert (q[0] < 11.5) == moves_west
         assert abs(q[1] + 1.5) < 0.1
 
-
-def test_in_a_ring_the_search_keeps_its_place_along_the_edge_within_the_reach() -> None:
-    """Between two ring neighbours the drone follows the ring spacing along the last tangent instead of returning
-    to where it lost the edge, but never beyond the sweep's reach along the line."""
-    v, _ = search_velocity(np.array([12.0, 2.0]), EDGE, TOWARDS_WATER, True, False, 2.0, FOOTPRINT_M, 0.8)
-    assert v[1] == pytest.approx(0.8)
-    far = reach_m(2.0, FOOTPRINT_M) + 1.0
-    v, _ = search_velocity(np.array([12.0, far]), EDGE, TOWARDS_WATER, True, False, 2.0, FOOTPRINT_M, 0.8)
-    assert v[1] < 0.0
-    v, _ = search_velocity(np.array([12.0, far]), EDGE, TOWARDS_WATER, True, False, 2.0, FOOTPRINT_M, -0.8)
-    assert v[1] == pytest.approx(-0.8)
