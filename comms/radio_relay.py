@@ -1,7 +1,8 @@
 """The radio emulator's logic without Zenoh or clocks: range gate, loss and delay for a stream of agent states.
 
 Each agent's state is validated on arrival (``on_state``), the fates of everything received in a tick are decided
-at once on the simulator's TRUE positions (``flush``: one vectorised ``RadioModel.send_many``), the survivors are
+at once on the simulator's TRUE positions (``flush``: one vectorised ``RadioModel.send_many_in`` on the truth's range
+graph, built once per truth), the survivors are
 held in flight, and ``pop_due`` hands out what is due, grouped by receiver.
 
 Cost per message is what limits a large fleet: at 300 drones × 20 Hz the emulator takes 6000 states and hands out
@@ -21,7 +22,7 @@ import numpy as np
 from comms.bundle_wire import bundle_bytes, bundle_head, encode_entry
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
-from comms.radio_model import GROUND_NODE_ID, RadioModel
+from comms.radio_model import GROUND_NODE_ID, RadioModel, RangeGraph
 from comms.signing import Verifier, unsigned_body
 
 TRUTH_RESTART_S = 5.0
@@ -81,6 +82,7 @@ class RadioRelay:
         self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, encoded bundle entry
         self._in_flight_count = 0
         self._positions: np.ndarray | None = None
+        self._graph: RangeGraph | None = None  # who hears whom on ``_positions``, built at the first flush after a truth
         self._alive_count = 0
         self._ids = np.zeros(0, dtype=np.int64)
         self._slot_of: dict[int, int] = {}  # vehicle id -> truth row, for vehicles alive in the newest truth
@@ -103,6 +105,7 @@ class RadioRelay:
         self.flush()
         self.truth_t_s = truth.t_s
         self._positions = truth.positions_array()
+        self._graph = None
         vehicle_ids = list(truth.vehicle_ids)
         if self.ground_node_enu_m is not None:
             self._positions = np.vstack([self._positions, np.asarray(self.ground_node_enu_m, dtype=float)[None, :]])
@@ -181,8 +184,10 @@ class RadioRelay:
         rx_s = np.array(rx_list, dtype=float)
         payloads = np.empty(len(batch), dtype=object)
         payloads[:] = payload_list
-        tx = self.radio.send_many(slots_a, self._positions, 0.0, np.array(seqs, dtype=np.int64), vehicle_ids=self._ids,
-                                  clock_t_s=np.array(source_list, dtype=float))
+        if self._graph is None:
+            self._graph = self.radio.range_graph(self._positions)
+        tx = self.radio.send_many_in(self._graph, slots_a, self._positions, 0.0, np.array(seqs, dtype=np.int64),
+                                     vehicle_ids=self._ids, clock_t_s=np.array(source_list, dtype=float))
         assert tx.message_index is not None
         c = self.counters
         c.out_of_range += len(batch) * (self._alive_count - 1) - tx.receiver_index.size
