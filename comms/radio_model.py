@@ -42,7 +42,7 @@ from comms.counter_draws import uniform_draw
 if TYPE_CHECKING:
     from mission_plan.scenario_schema import RadioSpec
 
-__all__ = ["BurstLoss", "RadioModel", "RangeGraph", "Transmission", "radio_model_of", "uniform_draw"]
+__all__ = ["BurstLoss", "RadioModel", "Transmission", "radio_model_of", "uniform_draw"]
 
 GROUND_NODE_ID = 0
 """The ground station's id as a receiver on the radio (vehicle ids start at 1); it never transmits there."""
@@ -91,15 +91,6 @@ class Transmission:
         """(sender_index, receiver_index, delivery_t_s) of the packets that arrive."""
         m = self.delivered
         return self.sender_index[m], self.receiver_index[m], self.delivery_t_s[m]
-
-
-@dataclass(frozen=True)
-class RangeGraph:
-    """Who hears whom for one set of positions, as compressed rows: the receivers (row indices, ascending) of sender
-    row ``i`` are ``receivers[starts[i]:starts[i + 1]]``. Built once per truth by ``RadioModel.range_graph``."""
-
-    starts: NDArray[np.int64]
-    receivers: NDArray[np.int64]
 
 
 @dataclass(frozen=True)
@@ -259,46 +250,12 @@ class RadioModel:
         state; default ``t_s``) are scalars or (K,); rows carry ``message_index`` into the K."""
         p = np.asarray(positions_m, dtype=float)
         senders = np.asarray(sender_index, dtype=np.int64).reshape(-1)
-        with np.errstate(invalid="ignore"):
-            near = squared_distances(p[senders], p) <= self.range_m * self.range_m
-        near[np.arange(senders.size), senders] = False
-        m_idx, r_idx = np.nonzero(near)
-        return self._fates(p, senders, m_idx, r_idx, t_s, seq, vehicle_ids, clock_t_s)
-
-    def range_graph(self, positions_m: ArrayLike) -> RangeGraph:
-        """Who hears whom among TRUE positions (N, 2|3), each sender's receivers listed once (see ``RangeGraph``)."""
-        near = self.in_range(positions_m)
-        starts = np.zeros(near.shape[0] + 1, dtype=np.int64)
-        np.cumsum(np.count_nonzero(near, axis=1), out=starts[1:])
-        return RangeGraph(starts, np.nonzero(near)[1].astype(np.int64))
-
-    def send_many_in(
-        self,
-        graph: RangeGraph,
-        sender_index: ArrayLike,
-        positions_m: ArrayLike,
-        t_s: ArrayLike,
-        seq: ArrayLike,
-        vehicle_ids: ArrayLike | None = None,
-        clock_t_s: ArrayLike | None = None,
-    ) -> Transmission:
-        """``send_many`` with the range gate read from ``graph`` (built from these ``positions_m``): the same rows,
-        in the same order, decided the same way, in O(links) instead of O(K N). For a caller that decides many
-        small batches against one set of positions (the radio emulator, a batch every few ms, a truth every 50)."""
-        p = np.asarray(positions_m, dtype=float)
-        senders = np.asarray(sender_index, dtype=np.int64).reshape(-1)
-        first, counts = graph.starts[senders], graph.starts[senders + 1] - graph.starts[senders]
-        m_idx = np.repeat(np.arange(senders.size, dtype=np.int64), counts)
-        offsets = np.arange(m_idx.size, dtype=np.int64) - np.repeat(np.cumsum(counts) - counts, counts)
-        r_idx = graph.receivers[first[m_idx] + offsets]
-        return self._fates(p, senders, m_idx, r_idx, t_s, seq, vehicle_ids, clock_t_s)
-
-    def _fates(self, p: NDArray[np.float64], senders: NDArray[np.int64], m_idx: NDArray[np.intp],
-               r_idx: NDArray[np.intp], t_s: ArrayLike, seq: ArrayLike, vehicle_ids: ArrayLike | None,
-               clock_t_s: ArrayLike | None) -> Transmission:
-        """The fate of each in-range row (message ``m_idx`` to receiver row ``r_idx``) of ``send_many``."""
         k = senders.size
         ids = np.arange(p.shape[0], dtype=np.int64) if vehicle_ids is None else np.asarray(vehicle_ids, dtype=np.int64)
+        with np.errstate(invalid="ignore"):
+            near = squared_distances(p[senders], p) <= self.range_m * self.range_m
+        near[np.arange(k), senders] = False
+        m_idx, r_idx = np.nonzero(near)
         s_idx = senders[m_idx]
         seq_k = np.broadcast_to(np.asarray(seq, dtype=np.int64), (k,))
         t_k = np.broadcast_to(np.asarray(t_s, dtype=float), (k,))

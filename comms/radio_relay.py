@@ -1,8 +1,7 @@
 """The radio emulator's logic without Zenoh or clocks: range gate, loss and delay for a stream of agent states.
 
 Each agent's state is validated on arrival (``on_state``), the fates of everything received in a tick are decided
-at once on the simulator's TRUE positions (``flush``: one vectorised ``RadioModel.send_many_in`` on the truth's range
-graph, built once per truth), the survivors are
+at once on the simulator's TRUE positions (``flush``: one vectorised ``RadioModel.send_many``), the survivors are
 held in flight, and ``pop_due`` hands out what is due, grouped by receiver.
 
 Cost per message is what limits a large fleet: at 300 drones × 20 Hz the emulator takes 6000 states and hands out
@@ -19,16 +18,17 @@ from dataclasses import dataclass
 import msgspec
 import numpy as np
 
-from comms.bundle_wire import bundle_bytes, bundle_head, encode_entry
+from comms.bundle_wire import encode_entry, framed_bundles
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
-from comms.radio_model import GROUND_NODE_ID, RadioModel, RangeGraph
+from comms.radio_model import GROUND_NODE_ID, RadioModel
 from comms.signing import Verifier, unsigned_body
 
 TRUTH_RESTART_S = 5.0
 AGENT_RESTART_S = 1.0  # a lower seq with a source time this much newer is a restarted agent, not a stale message
 _MAX_STATE_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
 _STATE_KIND = NeighbourState.__name__
+_DUE, _RECEIVER, _SENDER, _PAYLOAD, _ENTRY = range(5)  # the in-flight columns
 
 
 class StateHeader(msgspec.Struct, frozen=True, tag_field="schema", tag="fw/state/1"):
@@ -82,7 +82,6 @@ class RadioRelay:
         self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, encoded bundle entry
         self._in_flight_count = 0
         self._positions: np.ndarray | None = None
-        self._graph: RangeGraph | None = None  # who hears whom on ``_positions``, built at the first flush after a truth
         self._alive_count = 0
         self._ids = np.zeros(0, dtype=np.int64)
         self._slot_of: dict[int, int] = {}  # vehicle id -> truth row, for vehicles alive in the newest truth
@@ -105,7 +104,6 @@ class RadioRelay:
         self.flush()
         self.truth_t_s = truth.t_s
         self._positions = truth.positions_array()
-        self._graph = None
         vehicle_ids = list(truth.vehicle_ids)
         if self.ground_node_enu_m is not None:
             self._positions = np.vstack([self._positions, np.asarray(self.ground_node_enu_m, dtype=float)[None, :]])
@@ -184,10 +182,8 @@ class RadioRelay:
         rx_s = np.array(rx_list, dtype=float)
         payloads = np.empty(len(batch), dtype=object)
         payloads[:] = payload_list
-        if self._graph is None:
-            self._graph = self.radio.range_graph(self._positions)
-        tx = self.radio.send_many_in(self._graph, slots_a, self._positions, 0.0, np.array(seqs, dtype=np.int64),
-                                     vehicle_ids=self._ids, clock_t_s=np.array(source_list, dtype=float))
+        tx = self.radio.send_many(slots_a, self._positions, 0.0, np.array(seqs, dtype=np.int64), vehicle_ids=self._ids,
+                                  clock_t_s=np.array(source_list, dtype=float))
         assert tx.message_index is not None
         c = self.counters
         c.out_of_range += len(batch) * (self._alive_count - 1) - tx.receiver_index.size
@@ -221,6 +217,9 @@ class RadioRelay:
         for ``add.at`` is one-dimensional: a sixth of the two-index form's cost)."""
         size = self._link_delivered.shape[0]
         cell = self._link_slot_of_truth[sender_index] * size + self._link_slot_of_truth[receiver_index]
+        if delivered.all():
+            np.add.at(self._link_delivered.reshape(-1), cell, 1)
+            return
         np.add.at(self._link_delivered.reshape(-1), cell[delivered], 1)
         np.add.at(self._link_lost.reshape(-1), cell[~delivered], 1)
 
@@ -228,26 +227,27 @@ class RadioRelay:
     def pop_due(self, now_s: float) -> dict[int, list[tuple[int, bytes]]]:
         """Flush, then the messages to hand over now, by receiver id: {receiver: [(sender_id, payload), ...]}
         in delivery-time order."""
-        ready = self._take_ready(now_s)
+        ready = self._take_ready(now_s, (_SENDER, _PAYLOAD))
         if ready is None:
             return {}
         receivers, columns, starts, ends = ready
-        senders, payloads = columns[2].tolist(), columns[3].tolist()
+        senders, payloads = columns[_SENDER].tolist(), columns[_PAYLOAD].tolist()
         return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers, starts, ends)}
 
     def pop_due_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
         """What ``pop_due`` hands over, as each receiver's encoded ``RadioBundle`` stamped ``t_s``: the entries
         were encoded once per message in ``flush`` and are only framed here (:mod:`comms.bundle_wire`)."""
-        ready = self._take_ready(now_s)
+        ready = self._take_ready(now_s, (_ENTRY,))
         if ready is None:
             return []
         receivers, columns, starts, ends = ready
-        head, entries = bundle_head(t_s), columns[4].tolist()
-        return [(r, bundle_bytes(head, entries[a:b])) for r, a, b in zip(receivers, starts, ends)]
+        return list(zip(receivers, framed_bundles(t_s, columns[_ENTRY].tolist(), starts, ends)))
 
-    def _take_ready(self, now_s: float) -> tuple[list[int], list[np.ndarray], list[int], list[int]] | None:
+    def _take_ready(self, now_s: float, wanted: tuple[int, ...]
+                    ) -> tuple[list[int], dict[int, np.ndarray], list[int], list[int]] | None:
         """Flush, then take the in-flight messages due by ``now_s`` out of flight, sorted by receiver then due
-        time: (receiver id of each group, the in-flight columns in that order, group starts, group ends)."""
+        time: (receiver id of each group, the ``wanted`` in-flight columns in that order by column index, group
+        starts, group ends)."""
         self.flush()
         if not self._in_flight:
             return None
@@ -265,11 +265,14 @@ class RadioRelay:
         self._in_flight = remaining
         if not parts:
             return None
-        columns = [np.concatenate(column) for column in zip(*parts)]
-        self._in_flight_count -= columns[0].size
-        order = np.lexsort((columns[0], columns[1]))
-        columns = [column[order] for column in columns]
-        receivers = columns[1]
+        def column(i: int) -> np.ndarray:
+            return parts[0][i] if len(parts) == 1 else np.concatenate([part[i] for part in parts])
+
+        due, receivers = column(_DUE), column(_RECEIVER)
+        self._in_flight_count -= due.size
+        order = np.lexsort((due, receivers))
+        receivers = receivers[order]
+        columns = {i: column(i)[order] for i in wanted}
         bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
         starts = [0, *bounds]
         return receivers[starts].tolist(), columns, starts, [*bounds, receivers.size]
