@@ -9,7 +9,9 @@ Three processes on loopback, as in a mission:
 
 Drones sit on a square grid with ``--spacing-m`` (default 10 m, d in the paper) and radio range 25 m, so an interior
 drone has ~20 neighbours in range. The emulator's CPU per 1000 deliveries is taken between two of its own
-``radio/stats`` reports (its delivered count) and the CPU read as each arrives. ``--tree LABEL=PATH`` runs the
+``radio/stats`` reports (its delivered count) and the CPU read as each arrives; the JSON line after each row also
+splits the emulator's CPU by thread (``radio_thread_cpu_pct``: the Python thread, Zenoh's ``app`` and ``tx``
+runtimes). ``--tree LABEL=PATH`` runs the
 emulator of another checkout (e.g. ``git archive main | tar -x -C /tmp/before``) in the same run, alternating
 with this one per drone count, so a before/after comparison shares the machine's load. Run:
 
