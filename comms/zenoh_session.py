@@ -200,26 +200,31 @@ class ZenohSession:
         publisher.put(payload)
 
     def publisher_of(self, key: str) -> Callable[[bytes], None]:
-        """``put`` on one hot key without the per-call lookups: the publisher's own ``put`` (declared on first use
-        as ``put`` does). For a loop that publishes thousands of times a second on a known set of keys (the radio
-        emulator's inboxes); the caller stops calling it before the session closes."""
-        if self._closed:
-            raise RuntimeError("zenoh session is closed")
-        with self._lock:
-            publisher = self._publishers.get(key)
-            if publisher is None:
-                publisher = self._publishers[key] = self._session.declare_publisher(key)
-        return publisher.put
-
-    def declare_key(self, key: str) -> None:
-        """Declare a key expression this session receives samples on, thousands a second (the radio emulator's state
-        keys): Zenoh then resolves the route of a sample on that key once and keeps it, where an undeclared key's
-        subscriber matches are searched again for every sample (``Resource::get_matches``, ~10 % of the receiving
-        thread's CPU at 6000 states a second). Held until the session closes (which releases it)."""
+        """``put`` on one hot key without ``put``'s lookups (the radio emulator's inboxes, thousands of puts a
+        second); after ``close`` payloads are dropped and counted."""
         with self._lock:
             if self._closed:
                 raise RuntimeError("zenoh session is closed")
-            self._key_exprs.append(self._session.declare_keyexpr(key))
+            publisher = self._publishers.get(key)
+            if publisher is None:
+                publisher = self._publishers[key] = self._session.declare_publisher(key)
+        put = publisher.put
+
+        def put_unless_closed(payload: bytes) -> None:
+            if self._closed:
+                self.dropped_after_close += 1
+                return
+            put(payload)
+
+        return put_unless_closed
+
+    def declare_key(self, key: str) -> None:
+        """Declare a key this session receives thousands of samples a second on (the radio emulator's state keys):
+        Zenoh then keeps its route, where an undeclared key's subscriber matches are searched again for every
+        sample (``Resource::get_matches``: ~10 % of the receiving thread's CPU at 6000 states a second)."""
+        with self._lock:
+            if not self._closed:
+                self._key_exprs.append(self._session.declare_keyexpr(key))
 
     def put_once(self, key: str, payload: bytes) -> None:
         """Publish on a key without keeping a publisher (rare messages on many keys); dropped after ``close``."""
@@ -288,9 +293,7 @@ class ZenohSession:
         For a consumer that takes thousands of samples per second and wants every one of them (the radio
         emulator): no Python runs on Zenoh's threads, so there is no interpreter-lock hand-over per sample, only a
         ``try_recv`` per sample in the consumer's loop (about a fifth of the callback path's CPU, see
-        docs/BENCHMARKS.md). When the ring is full the oldest sample is dropped; the consumer cannot be woken by an
-        arrival, so it polls.
-        """
+        docs/BENCHMARKS.md). When the ring is full the oldest sample is dropped; the consumer polls."""
         return SampleQueue(self._declare(
             lambda: self._session.declare_subscriber(key_expr, zenoh.handlers.RingChannel(capacity))))
 
@@ -364,8 +367,7 @@ class SampleQueue:
         return out
 
     def drain_newest(self, max_samples: int = 1 << 20) -> dict[str, bytes]:
-        """Like ``drain``, but only the newest payload per key (keys in the order first seen); ``received`` counts
-        every sample taken."""
+        """Like ``drain``, but only the newest payload per key (keys in the order first seen)."""
         out: dict[str, bytes] = {}
         taken = 0
         for key, payload in self._puts(max_samples):
