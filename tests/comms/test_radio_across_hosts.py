@@ -24,6 +24,8 @@ from pathlib import Path
 
 import pytest
 
+from comms.key_file import create_key_file
+
 pytestmark = pytest.mark.integration
 
 REPO = Path(__file__).resolve().parents[2]
@@ -60,8 +62,8 @@ def test_readme_radio_command_forwards_between_two_hosts(namespaces, tmp_path: P
     where = {"hostA": namespaces.names["gcs"], "hostB": namespaces.names["da"]}
     namespaces.name_hosts("da", {"hostA": namespaces.gcs_address("da")})
     env = {"PYTHONPATH": str(REPO), "PATH": "/usr/sbin:/usr/bin:/sbin:/bin"}
-    subprocess.run([sys.executable, "-m", "gcs.plan", "circle", "--out", "plans"], cwd=tmp_path, env=env, check=True,
-                   capture_output=True, timeout=120)
+    (tmp_path / "plans").mkdir()
+    create_key_file(tmp_path / "plans" / "mission.key")  # what `python -m gcs.plan circle --out plans` writes beside the plans
     procs: list[subprocess.Popen] = []
 
     def start(host: str, name: str, args: list[str]) -> Path:
@@ -89,7 +91,7 @@ def test_readme_radio_command_forwards_between_two_hosts(namespaces, tmp_path: P
         tls = [a for flag in ("--tls-ca", "--tls-cert", "--tls-key") for a in (flag, drone_identity[drone_identity.index(flag) + 1])]
         drones = {vid: start("hostB", f"drone_{vid}", [str(HERE / "comms_agent_proc.py"), "--hub", "tls/127.0.0.1:7447",
                                                         "--client", "--mission", "circle", "--id", str(vid), "--via-radio",
-                                                        "--key-file", "plans/mission.key", "--duration-s", "4", *tls])
+                                                        "--key-file", "plans/mission.key", "--duration-s", "3", *tls])
                   for vid in DRONES}
         for p in procs[-len(DRONES):]:
             p.wait(timeout=60)

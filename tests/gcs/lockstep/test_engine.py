@@ -57,7 +57,7 @@ def test_relayed_copies_refused_reach_the_events_and_the_metrics() -> None:
     """An honest run on a short radio relays copies and refuses none: every vehicle and the ground
     station's radio node say 0, in events.log's line and in metrics.json (summary and per vehicle)."""
     scenario = load_scenario("circle", ["radio.range_m=15", "radio.gcs_lossless=false"])
-    result = run_lockstep(scenario, "improved", seed=3, duration_s=3.0)
+    result = run_lockstep(scenario, "improved", seed=3, duration_s=1.5)
     lines = [text for _, text in result.record.events if text.startswith("relayed copies refused")]
     assert lines == ["relayed copies refused as impossible: 0 by the vehicles, 0 by the ground station's radio node"]
     metrics = compute_mission_metrics(result.record, result.flood, scenario.camera.fov_deg)
