@@ -2,8 +2,9 @@
 
 300 drones on the 10 m grid of ``bench/comms_radio.py`` (range 25 m, ~17.5 neighbours each), states with 8 edge
 points, queued 30 per batch (one 5 ms delivery cycle at 20 Hz), a new truth (every drone moved) after each drone's
-state, as the simulator's 20 Hz truth, each batch decided and handed out as the emulator does in one delivery cycle: one encoded ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the
-codec in a checkout without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
+state, as the simulator's 20 Hz truth, each batch decided and handed out as the emulator does in one delivery
+cycle: one encoded ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the codec in a checkout
+without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
 tar -x -C /tmp/before``), so before and after run on the same load. Run:
 
     .venv/bin/python bench/radio_relay.py

@@ -87,7 +87,8 @@ def _fly_across_namespaces(namespaces: Namespaces, out: Path, overrides: list[st
         while not all((plans / f"agent_{v}.json").exists() for v in drones_a + drones_b):
             assert gcs.poll() is None and time.monotonic() < deadline, "the ground station wrote no plans"
             time.sleep(0.2)
-        start("gcs", "router", ["comms.router", "--listen", f"tcp/0.0.0.0:{namespaces.router_port}", "--connect", "tcp/127.0.0.1:7447"])
+        start("gcs", "router", ["comms.router", "--listen", f"tcp/0.0.0.0:{namespaces.router_port}", "--connect",
+                                "tcp/127.0.0.1:7447"])
         for spoke in ("da", "db"):
             start(spoke, "router", ["comms.router", "--listen", "tcp/127.0.0.1:7447", "--connect",
                                     namespaces.endpoint(spoke)])

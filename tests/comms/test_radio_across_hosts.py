@@ -88,7 +88,8 @@ def test_readme_radio_command_forwards_between_two_hosts(namespaces, tmp_path: P
                                          "circle", "--vehicles", *(f"{v}:{e},{n}" for v, (e, n) in DRONES.items())])
         _wait_for(truth, "READY", procs)
         drone_identity = next(args for host, module, args in commands if (host, module) == ("hostB", "comms.router"))
-        tls = [a for flag in ("--tls-ca", "--tls-cert", "--tls-key") for a in (flag, drone_identity[drone_identity.index(flag) + 1])]
+        tls = [a for flag in ("--tls-ca", "--tls-cert", "--tls-key")
+               for a in (flag, drone_identity[drone_identity.index(flag) + 1])]
         drones = {vid: start("hostB", f"drone_{vid}", [str(HERE / "comms_agent_proc.py"), "--hub", "tls/127.0.0.1:7447",
                                                         "--client", "--mission", "circle", "--id", str(vid), "--via-radio",
                                                         "--key-file", "plans/mission.key", "--duration-s", "3", *tls])
