@@ -27,10 +27,13 @@ that smooth.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
+
+from vehicle_agents.perception.shore import colour_cues, refine_shore
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -57,17 +60,16 @@ _LEVELS_SQUARED = _LEVELS * _LEVELS
 _LOG_TABLE = np.log(np.arange(256, dtype=np.float32) + 1.0).reshape(1, 256)
 
 
-def cue_stack(image_bgr: NDArray[np.uint8]) -> NDArray[np.float32]:
+def cue_stack(smooth: NDArray[np.uint8], grey8: NDArray[np.uint8]) -> NDArray[np.float32]:
     """(H/2, W/2, 4) float32 at half resolution: chromaticity, saturation, fine texture, log brightness (see the
-    module). The texture is taken at full resolution (its scale is the pixel), then every cue is averaged over 2x2
-    pixels and smoothed over 3x3 of those (about 6x6 pixels of the frame)."""
-    smooth = cv2.medianBlur(image_bgr, 3)
-    grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
+    module) of the 3x3-median frame ``smooth`` and its grey ``grey8``. The texture is taken at full resolution (its
+    scale is the pixel), then every cue is averaged over 2x2 pixels and smoothed over 3x3 of those (about 6x6
+    pixels of the frame)."""
     log_envelope = cv2.LUT(cv2.min(grey8, cv2.medianBlur(grey8, 3)), _LOG_TABLE)
     mean = cv2.blur(log_envelope, (3, 3))
     square = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
     texture = cv2.log(cv2.max(cv2.subtract(square, cv2.multiply(mean, mean)), 1e-6))
-    half = (image_bgr.shape[1] // 2, image_bgr.shape[0] // 2)
+    half = (smooth.shape[1] // 2, smooth.shape[0] // 2)
     small = cv2.resize(smooth, half, interpolation=cv2.INTER_AREA)
     small_float = small.astype(np.float32)
     total = cv2.transform(small_float, _SUM_ROW_3)
@@ -145,11 +147,14 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
     return score8, threshold
 
 
-def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
-    """(water mask or None for a one-class frame, 8-bit score, threshold) for a valid (H, W, 3) uint8 image; a
+def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[Any], float]:
+    """(water mask or None for a one-class frame, score image, threshold) for a valid (H, W, 3) uint8 image; a
     one-class frame's threshold puts the frame's mean score above it when the frame is water. The split is found at
-    half resolution; the mask is the full-resolution (bilinear) score over the same threshold."""
-    cues = cue_stack(image_bgr)
+    half resolution and drawn at full resolution (the bilinear score over the same threshold); its shore is then
+    placed by colour (:mod:`vehicle_agents.perception.shore`), whose score and level are returned for the edge."""
+    smooth = cv2.medianBlur(image_bgr, 3)
+    grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
+    cues = cue_stack(smooth, grey8)
     mean, std = cv2.meanStdDev(cues)
     weights = SCORE_SIGNS / (std.ravel().astype(np.float32) + 1e-9)
     matrix = np.empty((1, 5), np.float32)
@@ -163,12 +168,16 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
     high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
     water_tex, land_tex, frame_tex = _texture_medians(texture8, high)
     if threshold is not None:
-        water = cv2.morphologyEx(cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1), cv2.MORPH_OPEN, _KERNEL3)
-        water = cv2.morphologyEx(water, cv2.MORPH_CLOSE, _KERNEL5)
+        water = cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1)
+        shore = refine_shore(water, colour_cues(smooth, cv2.LUT(grey8, _LOG_TABLE)))
+        edge_score, edge_level = (full, threshold + 0.5) if shore is None else (shore[1], shore[2])
+        if shore is not None:
+            water = shore[0]
+        water = cv2.morphologyEx(cv2.morphologyEx(water, cv2.MORPH_OPEN, _KERNEL3), cv2.MORPH_CLOSE, _KERNEL5)
         fraction = cv2.countNonZero(water) / water.size
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            return water.view(bool), full, threshold + 0.5
+            return water.view(bool), edge_score, edge_level
         if not inside:
             frame_tex = water_tex if fraction > 0.5 else land_tex
     mean_score = float(cv2.mean(full)[0])
