@@ -33,7 +33,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from vehicle_agents.perception.shore import colour_cues, refine_shore
+from vehicle_agents.perception.shore import refine_shore
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -43,6 +43,10 @@ COARSE_WATER_TEXTURE_MAX = -3.2
 """... and whose median log coefficient of variation over 7x7 pixels is below this (a frame of one class)."""
 MIN_SPLIT_FRACTION = 0.005
 """Each class of an accepted split covers at least this share of the frame."""
+MIN_ENCLOSED_FRACTION = 0.02
+"""A class under this share of the frame that touches no side of the frame is not the flood's edge: a flood is
+larger than the footprint, so its water reaches the frame's side; a blob wholly inside (a smooth patch of soil
+in grass, a puddle) makes the frame one class."""
 GLINT_ROUNDS = 2
 """How many times a rougher high class is taken as glint on water and the rest split again."""
 SCORE_SIGNS = np.array([1.0, -1.0, -1.0, 1.0], np.float32)
@@ -168,21 +172,33 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
     high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
     water_tex, land_tex, frame_tex = _texture_medians(texture8, high)
     if threshold is not None:
-        water = cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1)
-        shore = refine_shore(water, colour_cues(smooth, cv2.LUT(grey8, _LOG_TABLE)))
-        edge_score, edge_level = (full, threshold + 0.5) if shore is None else (shore[1], shore[2])
-        if shore is not None:
-            water = shore[0]
-        water = cv2.morphologyEx(cv2.morphologyEx(water, cv2.MORPH_OPEN, _KERNEL3), cv2.MORPH_CLOSE, _KERNEL5)
+        water = _open_close(cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1))
         fraction = cv2.countNonZero(water) / water.size
-        inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION
+        inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
+            min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            return water.view(bool), edge_score, edge_level
+            shore = refine_shore(water, smooth, grey8)
+            if shore is None:
+                return water.view(bool), full, threshold + 0.5
+            return _open_close(shore[0]).view(bool), shore[1], shore[2]
         if not inside:
             frame_tex = water_tex if fraction > 0.5 else land_tex
     mean_score = float(cv2.mean(full)[0])
     water = frame_tex < WATER_TEXTURE_MAX and coarse_texture(image_bgr) < COARSE_WATER_TEXTURE_MAX
     return None, full, mean_score - 1.0 if water else mean_score + 1.0
+
+
+def _open_close(water: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """A 0/1 mask without specks: opened 3x3 (stray water pixels), then closed 5x5 (stray land pixels)."""
+    return cv2.morphologyEx(cv2.morphologyEx(water, cv2.MORPH_OPEN, _KERNEL3), cv2.MORPH_CLOSE, _KERNEL5)
+
+
+def _small_class_reaches_side(water: NDArray[np.uint8], fraction: float) -> bool:
+    """Whether the smaller class of a 0/1 water mask holding ``fraction`` water has a pixel on a side of the frame."""
+    sides = (water[0], water[-1], water[:, 0], water[:, -1])
+    if fraction <= 0.5:
+        return any(bool(side.any()) for side in sides)
+    return not all(bool(side.all()) for side in sides)
 
 
 def coarse_texture(image_bgr: NDArray[np.uint8]) -> float:
