@@ -177,7 +177,7 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
             min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            shore = refine_shore(water, smooth, grey8)
+            shore = refine_shore(water, smooth, cv2.LUT(grey8, _LOG_TABLE), std.ravel()[[0, 1, 3]].astype(np.float32))
             if shore is None:
                 return water.view(bool), full, threshold + 0.5
             return _open_close(shore[0]).view(bool), shore[1], shore[2]

@@ -31,48 +31,41 @@ COLOUR_SIGNS = np.array([1.0, -1.0, 1.0], np.float32)
 """Signs of the standardised chromaticity, saturation and log brightness in the colour score (water positive)."""
 _BAND = cv2.getStructuringElement(cv2.MORPH_RECT, (2 * BAND_PX + 1, 2 * BAND_PX + 1))
 _RING = cv2.getStructuringElement(cv2.MORPH_RECT, (2 * RING_PX + 1, 2 * RING_PX + 1))
-_LOG_LEVELS = np.log(np.arange(256, dtype=np.float32) + np.float32(1.0))
+_SUM_ROW = np.array([[1.0, 1.0, 1.0, 9.0]], np.float32)
 
 
-def colour_scores(smooth_bgr: NDArray[np.uint8], grey8: NDArray[np.uint8], flat_index: NDArray[np.intp]
-                  ) -> list[NDArray[np.float32]]:
-    """Chromaticity ``(B + 3) / (B + G + R + 9)``, saturation ``(max − min) / (B + G + R + 9)`` and log brightness,
-    each a (K,) float32 array over the listed pixels (indices into the flattened frame) of the 3x3-median image:
-    the grey-water cues without the texture. Only the pixels near the shore are asked for."""
-    blue, green, red = (plane.reshape(-1)[flat_index] for plane in cv2.split(smooth_bgr))
-    total = blue.astype(np.float32)
-    total += green
-    total += red
-    total += np.float32(9.0)
-    spread = np.maximum(np.maximum(blue, green), red) - np.minimum(np.minimum(blue, green), red)
-    return [np.divide(blue + np.float32(3.0), total), np.divide(spread, total, dtype=np.float32),
-            _LOG_LEVELS[grey8.reshape(-1)[flat_index]]]
+def colour_score(smooth_bgr: NDArray[np.uint8], log_grey: NDArray[np.float32], weights: NDArray[np.float32]
+                 ) -> NDArray[np.float32]:
+    """(H, W) float32 colour score of the 3x3-median frame: ``weights`` (chromaticity, saturation, log brightness)
+    times chromaticity ``(B + 3) / (B + G + R + 9)``, saturation ``(max − min) / (B + G + R + 9)`` and log
+    brightness ``log_grey``: the grey-water cues without the texture, summed in one pass per term."""
+    as_float = smooth_bgr.astype(np.float32)
+    blue, green, red = cv2.split(smooth_bgr)
+    spread = cv2.subtract(cv2.max(cv2.max(blue, green), red), cv2.min(cv2.min(blue, green), red))
+    numerator = cv2.transform(as_float, np.array([[weights[0], 0.0, 0.0, 3.0 * weights[0]]], np.float32))
+    numerator = cv2.scaleAdd(spread.astype(np.float32), float(weights[1]), numerator)
+    ratio = cv2.divide(numerator, cv2.transform(as_float, _SUM_ROW))
+    return cv2.scaleAdd(log_grey, float(weights[2]), ratio)
 
 
-def refine_shore(coarse: NDArray[np.uint8], smooth_bgr: NDArray[np.uint8], grey8: NDArray[np.uint8]
-                 ) -> tuple[NDArray[np.uint8], NDArray[np.float32], float] | None:
-    """(water mask 0/1, colour score image, its threshold) with the shore placed by colour near ``coarse``'s
-    boundary, or None when the colour cannot place it (see the module). ``coarse`` is the split's (H, W) 0/1 mask,
-    ``smooth_bgr`` the 3x3-median frame and ``grey8`` its grey. The score image holds the threshold itself beyond
-    ``RING_PX`` of the boundary, where it is not computed."""
+def refine_shore(coarse: NDArray[np.uint8], smooth_bgr: NDArray[np.uint8], log_grey: NDArray[np.float32],
+                 cue_std: NDArray[np.float32]) -> tuple[NDArray[np.uint8], NDArray[np.float32], float] | None:
+    """(water mask 0/1, colour score, its threshold) with the shore placed by colour near ``coarse``'s boundary,
+    or None when the colour cannot place it (see the module). ``coarse`` is the split's (H, W) 0/1 mask,
+    ``smooth_bgr`` the 3x3-median frame, ``log_grey`` its log brightness, ``cue_std`` the spread of chromaticity,
+    saturation and log brightness over the frame (to standardise them)."""
     near_outside = cv2.dilate(coarse, _BAND)
     near_inside = cv2.erode(coarse, _BAND)
-    zone = np.flatnonzero(cv2.subtract(cv2.dilate(coarse, _RING), cv2.erode(coarse, _RING)))
-    outside, inside = near_outside.reshape(-1)[zone], near_inside.reshape(-1)[zone]
-    water_ring, land_ring = inside == 1, outside == 0
-    if np.count_nonzero(water_ring) < MIN_RING_PX or np.count_nonzero(land_ring) < MIN_RING_PX:
+    water_ring = cv2.subtract(near_inside, cv2.erode(coarse, _RING))
+    land_ring = cv2.subtract(cv2.dilate(coarse, _RING), near_outside)
+    if cv2.countNonZero(water_ring) < MIN_RING_PX or cv2.countNonZero(land_ring) < MIN_RING_PX:
         return None
-    score = np.zeros(zone.size, np.float32)
-    for sign, cue in zip(COLOUR_SIGNS, colour_scores(smooth_bgr, grey8, zone)):
-        score += cue * (sign / (cue.std() + np.float32(1e-9)))
-    water_level = float(score[water_ring].mean())
-    land_level = float(score[land_ring].mean())
+    score = colour_score(smooth_bgr, log_grey, COLOUR_SIGNS / (cue_std + np.float32(1e-9)))
+    water_level = cv2.mean(score, mask=water_ring)[0]
+    land_level = cv2.mean(score, mask=land_ring)[0]
     if water_level <= land_level:
         return None
     threshold = 0.5 * (water_level + land_level)
-    band = outside != inside
-    refined = coarse.copy()
-    refined.reshape(-1)[zone[band]] = score[band] > threshold
-    score_image = np.full(coarse.shape, threshold, np.float32)
-    score_image.reshape(-1)[zone] = score
-    return refined, score_image, threshold
+    band = cv2.subtract(near_outside, near_inside)
+    by_colour = cv2.bitwise_and(band, cv2.compare(score, threshold, cv2.CMP_GT))
+    return cv2.bitwise_or(cv2.subtract(coarse, band), by_colour), score, float(threshold)
