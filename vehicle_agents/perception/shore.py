@@ -3,7 +3,7 @@
 The grey-water split is found on cues averaged over about 6x6 pixels, and one of them, the fine texture, is a
 windowed statistic: a window that straddles the shore holds the step between the two colours and reads as rough,
 so the shore reads as land on both sides and the split's boundary lands one to three pixels into the water (a
-bias, not noise: 0.1-0.2 m at 10 m, the whole ring drawn inside the flood). Colour has no such window. So the
+bias, not noise: 0.1-0.2 m at 10 m, every edge point inside the flood). Colour has no such window. So the
 boundary is placed again at full resolution from the colour cues alone (chromaticity, saturation, brightness of
 the 3x3-median image, standardised and signed as in the split), within ``BAND_PX`` of the split's boundary:
 a pixel there is water when its colour score is above the level half-way between the water and the land seen
