@@ -42,7 +42,8 @@ class VehicleSpec:
 
     def roster_entry(self) -> RosterEntry:
         """What every other drone knows of this one."""
-        return RosterEntry(self.vehicle_id, self.role, self.group, self.rank, self.layer, self.ref_id, self.has_gps)
+        return RosterEntry(self.vehicle_id, self.role, self.group, self.rank, self.layer, self.ref_id, self.has_gps,
+                           (self.pad_enu_m[0], self.pad_enu_m[1]))
 
 
 def check_fleet_keys(fleet: Mapping[str, Any]) -> None:

@@ -8,6 +8,7 @@ output is a velocity setpoint in mission ENU and the drone's new control memory.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Sequence
 
 import numpy as np
@@ -16,9 +17,10 @@ from numpy.typing import NDArray
 from mission_plan.control_params import ControlMode
 from vehicle_agents.control.boundary import boundary_step
 from vehicle_agents.control.follower import follower_step
+from vehicle_agents.control.launch_stand_ins import launch_stand_ins
 from vehicle_agents.control.leader import leader_step
 from vehicle_agents.control.memory import ControlMemory
-from vehicle_agents.control.params import ControlParams, RosterEntry
+from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.safety import braking_horizon_m, predicted_positions_en_m, safety_filter, yielded_to
 from vehicle_agents.control.types import (
     ROLE_BOUNDARY,
@@ -38,8 +40,7 @@ def initial_memory(role: str, vehicle_id: int, params: ControlParams) -> Control
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
     entry = params.entry(vehicle_id)
     if entry.role != role:
-        entry = RosterEntry(vehicle_id=vehicle_id, role=role, group=entry.group, rank=entry.rank,
-                            layer=entry.layer, ref_id=entry.ref_id, has_gps=entry.has_gps)
+        entry = replace(entry, vehicle_id=vehicle_id, role=role)
     return ControlMemory(role=role, vehicle_id=vehicle_id, entry=entry)
 
 
@@ -98,7 +99,8 @@ def control_step(
 
     The yaw is held at north (0 rad NED) so that camera footprints stay axis-aligned squares. Improved mode
     passes the command through the collision barrier of :func:`safety.safety_filter` against every heard vehicle
-    it must keep clear of (same or higher right of way), after a short last-resort barrier against the others.
+    it must keep clear of (same or higher right of way), after a short last-resort barrier against the others;
+    at launch the plan's pads stand in for the vehicles not heard yet (:mod:`launch_stand_ins`).
     """
     heard = usable_neighbours(memory.vehicle_id, neighbours, params.neighbour_timeout_s)
     if role == ROLE_BOUNDARY:
@@ -109,8 +111,10 @@ def control_step(
         velocity, memory = follower_step(memory, own, heard, params, t_s)
     else:
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
-    if params.mode == ControlMode.IMPROVED and heard:
-        velocity[:2] = _collision_barrier(role, velocity[:2], own, heard, params)
+    if params.mode == ControlMode.IMPROVED:
+        obstacles = heard + launch_stand_ins(params, memory.vehicle_id, {n.vehicle_id for n in neighbours}, t_s)
+        if obstacles:
+            velocity[:2] = _collision_barrier(role, velocity[:2], own, obstacles, params)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)
     return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory
