@@ -27,13 +27,10 @@ that smooth.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
-
-from vehicle_agents.perception.shore import refine_shore
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -151,11 +148,10 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
     return score8, threshold
 
 
-def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[Any], float]:
-    """(water mask or None for a one-class frame, score image, threshold) for a valid (H, W, 3) uint8 image; a
+def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
+    """(water mask or None for a one-class frame, 8-bit score, threshold) for a valid (H, W, 3) uint8 image; a
     one-class frame's threshold puts the frame's mean score above it when the frame is water. The split is found at
-    half resolution and drawn at full resolution (the bilinear score over the same threshold); its shore is then
-    placed by colour (:mod:`vehicle_agents.perception.shore`), whose score and level are returned for the edge."""
+    half resolution; the mask is the full-resolution (bilinear) score over the same threshold."""
     smooth = cv2.medianBlur(image_bgr, 3)
     grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
     cues = cue_stack(smooth, grey8)
@@ -177,10 +173,7 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
             min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            shore = refine_shore(water, smooth, cv2.LUT(grey8, _LOG_TABLE), std.ravel()[[0, 1, 3]].astype(np.float32))
-            if shore is None:
-                return water.view(bool), full, threshold + 0.5
-            return _open_close(shore[0]).view(bool), shore[1], shore[2]
+            return water.view(bool), full, threshold + 0.5
         if not inside:
             frame_tex = water_tex if fraction > 0.5 else land_tex
     mean_score = float(cv2.mean(full)[0])
