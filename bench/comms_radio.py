@@ -9,7 +9,9 @@ Three processes on loopback, as in a mission:
 
 Drones sit on a square grid with ``--spacing-m`` (default 10 m, d in the paper) and radio range 25 m, so an interior
 drone has ~20 neighbours in range. The emulator's CPU per 1000 deliveries is taken between two of its own
-``radio/stats`` reports (its delivered count) and the CPU read as each arrives. ``--tree LABEL=PATH`` runs the
+``radio/stats`` reports (its delivered count) and the CPU read as each arrives; the JSON line after each row also
+splits the emulator's CPU by thread (``radio_thread_cpu_pct``: the Python thread, Zenoh's ``app`` and ``tx``
+runtimes). ``--tree LABEL=PATH`` runs the
 emulator of another checkout (e.g. ``git archive main | tar -x -C /tmp/before``) in the same run, alternating
 with this one per drone count, so a before/after comparison shares the machine's load. Run:
 
@@ -58,6 +60,22 @@ def grid_positions(n: int, spacing_m: float) -> np.ndarray:
 def cpu_seconds(pid: int) -> float:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def thread_cpu_seconds(pid: int) -> dict[str, float]:
+    """CPU seconds [user + system] of each of a process's threads so far, summed by thread name (Zenoh's runtimes
+    name their threads, e.g. ``app-0``, ``tx-0``; the main Python thread carries the command's name)."""
+    by_name: dict[str, float] = {}
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        try:
+            text = (task / "stat").read_text()
+        except OSError:  # the thread ended between the listing and the read
+            continue
+        name = text[text.index("(") + 1: text.rindex(")")]
+        fields = text.rsplit(")", 1)[1].split()
+        group = name.rstrip("0123456789").rstrip("-") or name
+        by_name[group] = by_name.get(group, 0.0) + (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    return by_name
 
 
 class _SourceTime(msgspec.Struct):
@@ -151,6 +169,7 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
                     break
                 if cpu0 is None and now >= start + warmup_s:
                     cpu0, t_measure = cpu_seconds(radio.pid), now
+                    threads0 = thread_cpu_seconds(radio.pid)
                     sent_at_measure = int(seq.sum())
                     delivered_so_far(stats)
                 if cpu0 is not None:
@@ -169,6 +188,7 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
                     next_send[i] += period
                 time.sleep(max(0.0, min(float(next_send.min()), next_truth) - time.monotonic()))
             cpu1, t_end = cpu_seconds(radio.pid), time.monotonic()
+            threads1 = thread_cpu_seconds(radio.pid)
             sent_measured = int(seq.sum()) - sent_at_measure
             lag = float(max(0.0, time.monotonic() - next_send.min()))
             time.sleep(0.5)
@@ -198,6 +218,8 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
         "p99_ms": float(np.percentile(lat, 99) * 1e3) if lat.size else float("nan"),
         "samples": int(lat.size),
         "generator_lag_s": lag,
+        "radio_thread_cpu_pct": {name: round(100.0 * (cpu - threads0.get(name, 0.0)) / (t_end - t_measure), 1)
+                                 for name, cpu in sorted(threads1.items()) if cpu - threads0.get(name, 0.0) > 0},
         "radio_summary": radio_err.strip().splitlines()[-1] if radio_err.strip() else "",
     }
 

@@ -1,9 +1,10 @@
 """Benchmark: the radio emulator's logic alone (``comms.radio_relay.RadioRelay``, no sockets), CPU per delivery.
 
 300 drones on the 10 m grid of ``bench/comms_radio.py`` (range 25 m, ~17.5 neighbours each), states with 8 edge
-points, queued 30 per batch (one 5 ms delivery cycle at 20 Hz), each batch decided and handed out as the emulator
-does in one delivery cycle: one encoded ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the
-codec in a checkout without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
+points, queued 30 per batch (one 5 ms delivery cycle at 20 Hz), a new truth (every drone moved) after each drone's
+state, as the simulator's 20 Hz truth, each batch decided and handed out as the emulator does in one delivery
+cycle: one encoded ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the codec in a checkout
+without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
 tar -x -C /tmp/before``), so before and after run on the same load. Run:
 
     .venv/bin/python bench/radio_relay.py
@@ -43,6 +44,10 @@ def measure(drones: int, messages: int, batch: int) -> tuple[float, float, int]:
     deciding = 0.0
     start = time.process_time()
     for i, payload in enumerate(payloads):
+        if i % drones == 0 and i:  # a new truth each round of states (20 Hz at 20 Hz states), every drone moved
+            step = 0.05 * (i // drones)
+            relay.on_truth(GroundTruth(t_s=step, vehicle_ids=list(range(drones)),
+                                       positions_enu_m=[(x + 0.1 * step, y, z) for x, y, z in positions]))
         relay.on_state(i % drones, payload, 0.0)
         if i % batch == batch - 1:
             c0 = time.process_time()

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from comms.keys import MissionKeys
@@ -84,7 +85,7 @@ class RadioEmulator:
         self._truth = self.session.subscribe(self.keys.truth)
         self._truth_key = self.keys.truth
         self._vehicle_of_key: dict[str, int | None] = {}
-        self._inbox_keys: dict[int, str] = {}  # receiver id -> its inbox key, built once
+        self._inboxes: dict[int, Callable[[bytes], None]] = {}  # receiver id -> put on its inbox key
         self.session.declare_alive(self.keys.alive("radio"))
         self.error: BaseException | None = None
 
@@ -127,12 +128,14 @@ class RadioEmulator:
         newest is what the radio should carry (the skipped ones count as ``input_gaps``)."""
         relay, known = self.relay, self._vehicle_of_key
         now_us = wall_clock_us()
-        for key, payload in dict(self._states.drain()).items():
+        for key, payload in self._states.drain_newest().items():
             vehicle_id = known.get(key, -1)
             if vehicle_id == -1:
                 vehicle_id = self.keys.vehicle_id_of(key)
                 if len(known) < _MAX_KNOWN_KEYS:
                     known[key] = vehicle_id
+                    if vehicle_id is not None:
+                        self.session.declare_key(key)
             relay.on_state(vehicle_id, payload, rx_s, now_us)
 
     def _newest_truth(self) -> GroundTruth | None:
@@ -145,13 +148,14 @@ class RadioEmulator:
         return truth
 
     def _deliver(self, now_s: float, t_s: float) -> None:
-        inbox_keys, put = self._inbox_keys, self.session.put
-        for receiver, bundle in self.relay.pop_due_bundles(now_s, t_s):
-            key = inbox_keys.get(receiver)
-            if key is None:
-                key = inbox_keys[receiver] = self.keys.inbox(receiver)
-            put(key, bundle)
-            self.bundles_out += 1
+        inboxes = self._inboxes
+        bundles = self.relay.pop_due_bundles(now_s, t_s)
+        for receiver, bundle in bundles:
+            put = inboxes.get(receiver)
+            if put is None:
+                put = inboxes[receiver] = self.session.publisher_of(self.keys.inbox(receiver))
+            put(bundle)
+        self.bundles_out += len(bundles)
 
     def _run(self) -> None:
         if self.config.paced:

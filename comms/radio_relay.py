@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import msgspec
 import numpy as np
 
-from comms.bundle_wire import bundle_bytes, bundle_head, encode_entry
+from comms.bundle_wire import encode_entry, framed_bundles
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
 from comms.radio_model import GROUND_NODE_ID, RadioModel
@@ -28,6 +28,7 @@ TRUTH_RESTART_S = 5.0
 AGENT_RESTART_S = 1.0  # a lower seq with a source time this much newer is a restarted agent, not a stale message
 _MAX_STATE_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
 _STATE_KIND = NeighbourState.__name__
+_DUE, _RECEIVER, _SENDER, _PAYLOAD, _ENTRY = range(5)  # the in-flight columns
 
 
 class StateHeader(msgspec.Struct, frozen=True, tag_field="schema", tag="fw/state/1"):
@@ -216,6 +217,9 @@ class RadioRelay:
         for ``add.at`` is one-dimensional: a sixth of the two-index form's cost)."""
         size = self._link_delivered.shape[0]
         cell = self._link_slot_of_truth[sender_index] * size + self._link_slot_of_truth[receiver_index]
+        if delivered.all():
+            np.add.at(self._link_delivered.reshape(-1), cell, 1)
+            return
         np.add.at(self._link_delivered.reshape(-1), cell[delivered], 1)
         np.add.at(self._link_lost.reshape(-1), cell[~delivered], 1)
 
@@ -223,26 +227,27 @@ class RadioRelay:
     def pop_due(self, now_s: float) -> dict[int, list[tuple[int, bytes]]]:
         """Flush, then the messages to hand over now, by receiver id: {receiver: [(sender_id, payload), ...]}
         in delivery-time order."""
-        ready = self._take_ready(now_s)
+        ready = self._take_ready(now_s, (_SENDER, _PAYLOAD))
         if ready is None:
             return {}
         receivers, columns, starts, ends = ready
-        senders, payloads = columns[2].tolist(), columns[3].tolist()
+        senders, payloads = columns[_SENDER].tolist(), columns[_PAYLOAD].tolist()
         return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers, starts, ends)}
 
     def pop_due_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
         """What ``pop_due`` hands over, as each receiver's encoded ``RadioBundle`` stamped ``t_s``: the entries
         were encoded once per message in ``flush`` and are only framed here (:mod:`comms.bundle_wire`)."""
-        ready = self._take_ready(now_s)
+        ready = self._take_ready(now_s, (_ENTRY,))
         if ready is None:
             return []
         receivers, columns, starts, ends = ready
-        head, entries = bundle_head(t_s), columns[4].tolist()
-        return [(r, bundle_bytes(head, entries[a:b])) for r, a, b in zip(receivers, starts, ends)]
+        return list(zip(receivers, framed_bundles(t_s, columns[_ENTRY].tolist(), starts, ends)))
 
-    def _take_ready(self, now_s: float) -> tuple[list[int], list[np.ndarray], list[int], list[int]] | None:
+    def _take_ready(self, now_s: float, wanted: tuple[int, ...]
+                    ) -> tuple[list[int], dict[int, np.ndarray], list[int], list[int]] | None:
         """Flush, then take the in-flight messages due by ``now_s`` out of flight, sorted by receiver then due
-        time: (receiver id of each group, the in-flight columns in that order, group starts, group ends)."""
+        time: (receiver id of each group, the ``wanted`` in-flight columns in that order by column index, group
+        starts, group ends)."""
         self.flush()
         if not self._in_flight:
             return None
@@ -260,11 +265,14 @@ class RadioRelay:
         self._in_flight = remaining
         if not parts:
             return None
-        columns = [np.concatenate(column) for column in zip(*parts)]
-        self._in_flight_count -= columns[0].size
-        order = np.lexsort((columns[0], columns[1]))
-        columns = [column[order] for column in columns]
-        receivers = columns[1]
+        def column(i: int) -> np.ndarray:
+            return parts[0][i] if len(parts) == 1 else np.concatenate([part[i] for part in parts])
+
+        due, receivers = column(_DUE), column(_RECEIVER)
+        self._in_flight_count -= due.size
+        order = np.lexsort((due, receivers))
+        receivers = receivers[order]
+        columns = {i: column(i)[order] for i in wanted}
         bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
         starts = [0, *bounds]
         return receivers[starts].tolist(), columns, starts, [*bounds, receivers.size]

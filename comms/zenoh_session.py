@@ -38,7 +38,7 @@ import re
 import threading
 import time
 import weakref
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -159,6 +159,7 @@ class ZenohSession:
         self._lock = threading.Lock()
         self._entities: list[Any] = []
         self._publishers: dict[str, Any] = {}
+        self._key_exprs: list[Any] = []
         self._closed = False
         self.callback_errors = 0
         self.oversized_samples = 0
@@ -197,6 +198,33 @@ class ZenohSession:
                     publisher = self._session.declare_publisher(key)
                     self._publishers[key] = publisher
         publisher.put(payload)
+
+    def publisher_of(self, key: str) -> Callable[[bytes], None]:
+        """``put`` on one hot key without ``put``'s lookups (the radio emulator's inboxes, thousands of puts a
+        second); after ``close`` payloads are dropped and counted."""
+        with self._lock:
+            if self._closed:
+                raise RuntimeError("zenoh session is closed")
+            publisher = self._publishers.get(key)
+            if publisher is None:
+                publisher = self._publishers[key] = self._session.declare_publisher(key)
+        put = publisher.put
+
+        def put_unless_closed(payload: bytes) -> None:
+            if self._closed:
+                self.dropped_after_close += 1
+                return
+            put(payload)
+
+        return put_unless_closed
+
+    def declare_key(self, key: str) -> None:
+        """Declare a key this session receives thousands of samples a second on (the radio emulator's state keys):
+        Zenoh then keeps its route, where an undeclared key's subscriber matches are searched again for every
+        sample (``Resource::get_matches``: ~10 % of the receiving thread's CPU at 6000 states a second)."""
+        with self._lock:
+            if not self._closed:
+                self._key_exprs.append(self._session.declare_keyexpr(key))
 
     def put_once(self, key: str, payload: bytes) -> None:
         """Publish on a key without keeping a publisher (rare messages on many keys); dropped after ``close``."""
@@ -265,9 +293,7 @@ class ZenohSession:
         For a consumer that takes thousands of samples per second and wants every one of them (the radio
         emulator): no Python runs on Zenoh's threads, so there is no interpreter-lock hand-over per sample, only a
         ``try_recv`` per sample in the consumer's loop (about a fifth of the callback path's CPU, see
-        docs/BENCHMARKS.md). When the ring is full the oldest sample is dropped; the consumer cannot be woken by an
-        arrival, so it polls.
-        """
+        docs/BENCHMARKS.md). When the ring is full the oldest sample is dropped; the consumer polls."""
         return SampleQueue(self._declare(
             lambda: self._session.declare_subscriber(key_expr, zenoh.handlers.RingChannel(capacity))))
 
@@ -336,19 +362,31 @@ class SampleQueue:
 
     def drain(self, max_samples: int = 1 << 20) -> list[tuple[str, bytes]]:
         """Everything waiting (at most ``max_samples``), oldest first, as (key, payload) of the PUT samples."""
-        out: list[tuple[str, bytes]] = []
+        out = list(self._puts(max_samples))
+        self.received += len(out)
+        return out
+
+    def drain_newest(self, max_samples: int = 1 << 20) -> dict[str, bytes]:
+        """Like ``drain``, but only the newest payload per key (keys in the order first seen)."""
+        out: dict[str, bytes] = {}
+        taken = 0
+        for key, payload in self._puts(max_samples):
+            out[key] = payload
+            taken += 1
+        self.received += taken
+        return out
+
+    def _puts(self, max_samples: int) -> Iterator[tuple[str, bytes]]:
         try_recv, put = self.subscriber.try_recv, zenoh.SampleKind.PUT
         for _ in range(max_samples):
             try:
                 sample = try_recv()
             except Exception:  # the subscriber was undeclared (session closing)
-                break
+                return
             if sample is None:
-                break
+                return
             if sample.kind == put:
-                out.append((str(sample.key_expr), sample.payload.to_bytes()))
-        self.received += len(out)
-        return out
+                yield str(sample.key_expr), sample.payload.to_bytes()
 
 
 def wait_for_peers(session: ZenohSession, key_expr: str, count: int, timeout_s: float = 10.0) -> bool:

@@ -44,3 +44,7 @@ class MissionRecord:
     encircle_time_s: float | None = None
     climb_events: list[int] = field(default_factory=list)
     events: list[tuple[float, str]] = field(default_factory=list)
+    refused_copies: list[int | None] = field(default_factory=list)
+    """Relayed copies each vehicle refused as impossible (``gcs.relay_refusals``); None where not reported."""
+    ground_refused_copies: int | None = None
+    """The same, refused by the ground station's radio node (None: the station is outside the radio)."""

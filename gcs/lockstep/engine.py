@@ -35,6 +35,7 @@ from gcs.polygon.radio_node import GroundNode, antenna_enu_m
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
+from gcs.relay_refusals import refused_copies_line
 from gcs.scenario import Scenario
 from mission_plan.control_params import ControlMode
 from mission_plan.jitter import start_delays_s
@@ -325,6 +326,9 @@ class _LockstepRun:
                                          self.dt_s)
 
     def result(self, steps: int, wall_s: float, cpu_s: float) -> LockstepResult:
+        refused = list(self.core.refused_copies) or [0] * len(self.ids)
+        ground_refused = None if self.ground is None else self.ground.refused_copies
+        self.events.append((steps * self.dt_s, refused_copies_line(self.ids, refused, ground_refused)))
         self.events.append((steps * self.dt_s, f"lockstep end after {wall_s:.2f} s wall"))
         trace, vehicles = self.trace, self.scenario.vehicles
         record = MissionRecord(
@@ -333,6 +337,7 @@ class _LockstepRun:
             commands_enu_mps=trace.commands_enu_mps, footprint_side_m=trace.footprint_side_m, alive=trace.alive,
             polygons=self.polygon.samples, encircle_time_s=self.encircle_time_s,
             climb_events=[m.climb_events for m in self.core.memories], events=self.events,
+            refused_copies=refused, ground_refused_copies=ground_refused,
         )
         return LockstepResult(record, self.flood, self.params, wall_s, cpu_s, steps, self.cameras.frames,
                               self.radio.heard_total, self.radio.lost_total, self.radio.bytes_sent)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import sys
+from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from comms.radio_model import radio_model_of
@@ -17,6 +19,7 @@ from mock_autopilot.world.config import flood_model_from_config
 
 EXIT_OK = 0
 EXIT_CONFIG = 2
+EVENTS_NAME = "events.log"
 
 SUMMARY_KEYS = (
     "encircle_time_s", "tracking_rms_last_10s_m", "spacing_cv_final", "max_gap_ratio_final", "polygon_iou_final",
@@ -47,8 +50,15 @@ def run_and_write(scenario: Scenario, options: MissionOptions) -> tuple[Lockstep
     options.out_dir.mkdir(parents=True, exist_ok=True)
     paths = write_mission_outputs(result.record, result.flood, scenario.name, scenario.home, options.out_dir,
                                   scenario.camera.fov_deg)
+    write_events_log(result.record.events, options.out_dir / EVENTS_NAME)
     metrics = json.loads(paths["metrics"].read_text(encoding="utf-8"))
     return result, metrics
+
+
+def write_events_log(events: Sequence[tuple[float, str]], path: Path) -> None:
+    """The run's events, one line each at its mission time, as the processes engine's events.log has them (without
+    its wall-clock column: a lockstep run keeps no wall clock)."""
+    path.write_text("".join(f"t={t_s:7.2f}s {text}\n" for t_s, text in events), encoding="utf-8")
 
 
 def run_mission(scenario: Scenario, options: MissionOptions) -> int:

@@ -83,6 +83,7 @@ def compute_mission_metrics(
         **_safety_summary(record.vehicle_ids, safety),
         "losses": len(losses),
         **_motion_summary(record, paths, speed[:, boundary] if len(boundary) else np.zeros((0, 0)), climbs_truth),
+        **_refusal_summary(record),
     }
     return _jsonable({
         "schema": SCHEMA, "scenario": record.scenario, "mode": record.mode, "engine": record.engine,
@@ -194,11 +195,21 @@ def _losses(record: MissionRecord, t: NDArray[np.float64], alive: NDArray[np.boo
     ]
 
 
+def _refusal_summary(record: MissionRecord) -> dict[str, Any]:
+    """Relayed copies refused as impossible: by the vehicles that reported (None: none did), by the ground station's
+    radio node (None: outside the radio)."""
+    known = [count for count in record.refused_copies if count is not None]
+    return {"relayed_copies_refused": sum(known) if known else None,
+            "relayed_copies_refused_ground": record.ground_refused_copies}
+
+
 def _per_vehicle(record: MissionRecord, paths: NDArray[np.float64], speed: NDArray[np.float64],
                  climbs_truth: NDArray[np.int_], alive: NDArray[np.bool_]) -> dict[str, Any]:
-    """Each vehicle's path, speeds, Algorithm 1 climbs (engine and truth) and whether it flew to the end."""
+    """Each vehicle's path, speeds, Algorithm 1 climbs (engine and truth), relayed copies it refused and whether it
+    flew to the end."""
     n_v = len(record.vehicle_ids)
     climbs_engine = list(record.climb_events) if len(record.climb_events) == n_v else [None] * n_v
+    refused = list(record.refused_copies) if len(record.refused_copies) == n_v else [None] * n_v
     return {
         str(vid): {
             "role": record.roles[i],
@@ -207,6 +218,7 @@ def _per_vehicle(record: MissionRecord, paths: NDArray[np.float64], speed: NDArr
             "max_speed_mps": max_m(speed[:, i]) if len(speed) else math.nan,
             "climb_events": climbs_engine[i],
             "climb_events_truth": int(climbs_truth[i]),
+            "relayed_copies_refused": refused[i],
             "alive_at_end": bool(alive[-1, i]) if len(alive) else False,
         }
         for i, vid in enumerate(record.vehicle_ids)

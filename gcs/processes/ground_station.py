@@ -48,7 +48,7 @@ from gcs.processes.live_view import LiveOutput, station_snapshot
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.processes.mission_children import ChildFailed, MissionChildren, StartupProgress
 from gcs.processes.mission_phase import MissionPhase, PhaseFailure, PhaseObservation, PhaseState, next_phase
-from gcs.processes.mission_summary import print_summary, write_outputs
+from gcs.processes.mission_summary import note_refused_copies, print_summary, write_outputs
 from gcs.processes.pace_watch import ClockStalled, PaceWatch
 from gcs.processes.polygon_publisher import PolygonPublisher
 from gcs.processes.recorder import MissionRecorder
@@ -392,6 +392,7 @@ class GroundStation:
         self.events(engine.text())
         if code == EXIT_OK and self.options.strict and engine.health is EngineHealth.DEGRADED:
             code = EXIT_FAILED
+        note_refused_copies(self.recorder, self.children, self.radio, self.events)
         self.recorder.events = list(self.events.entries)
         flood = self.evaluation.flood if self.evaluation is not None else None
         if write_outputs(self.recorder, flood, self.scenario, self.out_dir, self.flood_start_utc, self.console, engine):

@@ -8,15 +8,22 @@ import json
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.console import Console
 
+from gcs.processes.agent_exit_report import agent_refused_copies
 from gcs.processes.recorder import MissionRecorder
 from gcs.processes.run_verdict import EngineVerdict, safety_verdict
+from gcs.relay_refusals import refused_copies_line
 from gcs.report import write_mission_outputs
 from gcs.report.outputs import write_metrics_json
 from gcs.scenario import Scenario
 from mock_autopilot.world.flood_model import FloodModel
+
+if TYPE_CHECKING:
+    from gcs.processes.ground_radio import GroundRadio
+    from gcs.processes.mission_children import MissionChildren
 
 
 def write_outputs(recorder: MissionRecorder, flood: FloodModel | None, scenario: Scenario, out_dir: Path,
@@ -36,6 +43,18 @@ def write_outputs(recorder: MissionRecorder, flood: FloodModel | None, scenario:
         print(f"gcs.processes: writing the report failed: {exc!r}", file=sys.stderr)
         return False
     return True
+
+
+def note_refused_copies(recorder: MissionRecorder, children: MissionChildren | None, radio: GroundRadio | None,
+                        events: Callable[[str], None]) -> None:
+    """Put the relayed copies refused as impossible in the record and events.log: each agent's count from its
+    exit report (only the agents this station started and stopped; the others' stay unknown), and the ground
+    station's radio node's (None: outside the radio)."""
+    logs = {} if children is None else {vid: child.log_path for vid, child in children.agents.items()}
+    per_vehicle = [agent_refused_copies(logs[vid], vid) if vid in logs else None for vid in recorder.vehicle_ids]
+    ground = None if radio is None else radio.node.refused_copies
+    recorder.refused_copies, recorder.ground_refused_copies = per_vehicle, ground
+    events(refused_copies_line(recorder.vehicle_ids, per_vehicle, ground))
 
 
 def print_summary(out_dir: Path, complete: bool, engine: EngineVerdict, failsafes: Sequence[str],

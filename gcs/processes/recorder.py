@@ -29,6 +29,8 @@ class MissionRecorder:
         self.polygons: list[PolygonSample] = []
         self.encircle_time_s: float | None = None
         self.events: list[tuple[float, str]] = []
+        self.refused_copies: list[int | None] = []
+        self.ground_refused_copies: int | None = None
 
     def __len__(self) -> int:
         return len(self._t)
@@ -72,6 +74,8 @@ class MissionRecorder:
             encircle_time_s=self.encircle_time_s,
             climb_events=[],
             events=list(self.events),
+            refused_copies=list(self.refused_copies),
+            ground_refused_copies=self.ground_refused_copies,
         )
 
     def save_snapshot(self, path: Path) -> None:

@@ -14,7 +14,11 @@ import sys
 import threading
 import time
 from collections import Counter
+from dataclasses import replace
+from pathlib import Path
 
+from comms.cli_args import add_tls_arguments, tls_from_args
+from comms.key_file import read_key_file
 from comms.keys import MissionKeys
 from comms.messages import NeighbourState
 from comms.neighbour_table import NeighbourTable
@@ -32,6 +36,8 @@ def main() -> int:
     p.add_argument("--duration-s", type=float, default=30.0)
     p.add_argument("--via-radio", action="store_true")
     p.add_argument("--client", action="store_true", help="join as a client of the router at --hub (not a peer)")
+    p.add_argument("--key-file", type=Path, default=None, help="the mission key: sign what it sends, check what it hears")
+    add_tls_arguments(p)
     a = p.parse_args()
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
@@ -41,8 +47,12 @@ def main() -> int:
     table = NeighbourTable(own_id=a.id, period_s=1.0 / a.rate_hz)
     sent = 0
     config = ZenohConfig.client(a.hub) if a.client else ZenohConfig.member(a.hub)
+    tls = tls_from_args(a)
+    if tls is not None:
+        config = replace(config, extra_json5=tls.json5_items())
+    key = None if a.key_file is None else read_key_file(a.key_file)
     with ZenohSession(config) as session:
-        link = SwarmLink(session, keys, a.id, via_radio=a.via_radio)
+        link = SwarmLink(session, keys, a.id, via_radio=a.via_radio, key=key)
         print("READY", flush=True)
         t0 = time.monotonic()
         next_t = t0

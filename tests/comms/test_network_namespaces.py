@@ -26,12 +26,10 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import signal
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -42,76 +40,6 @@ from gcs.processes.launch import ProcessOptions, agent_command
 pytestmark = pytest.mark.integration
 
 REPO = Path(__file__).resolve().parents[2]
-PORT = 7448
-SPOKES = ("da", "db", "rc")  # drones_a, drones_b, rescue: each 10.216.<k>.2, the gcs side 10.216.<k>.1
-
-
-def _ip(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(["ip", *args], capture_output=True, text=True, timeout=10)
-
-
-class Namespaces:
-    """The four namespaces and their veth links; ``names[spoke]`` and ``names["gcs"]``."""
-
-    def __init__(self) -> None:
-        tag = f"fw{os.getpid() % 100000}"
-        self.names = {"gcs": f"{tag}gcs", **{s: f"{tag}{s}" for s in SPOKES}}
-        self.made: list[str] = []
-
-    def build(self) -> str | None:
-        """Make everything; the first refusal's message (the test is then skipped), or None."""
-        for name in self.names.values():
-            result = _ip("netns", "add", name)
-            if result.returncode != 0:
-                return f"ip netns add refused: {result.stderr.strip()}"
-            self.made.append(name)
-            _ip("-n", name, "link", "set", "lo", "up")
-        gcs = self.names["gcs"]
-        for k, spoke in enumerate(SPOKES, start=1):
-            inner, outer = f"v{spoke}{os.getpid() % 10000}", f"g{spoke}{os.getpid() % 10000}"
-            steps = [
-                ("link", "add", inner, "type", "veth", "peer", "name", outer),
-                ("link", "set", inner, "netns", self.names[spoke]),
-                ("link", "set", outer, "netns", gcs),
-                ("-n", self.names[spoke], "addr", "add", f"10.216.{k}.2/24", "dev", inner),
-                ("-n", gcs, "addr", "add", f"10.216.{k}.1/24", "dev", outer),
-                ("-n", self.names[spoke], "link", "set", inner, "up"),
-                ("-n", gcs, "link", "set", outer, "up"),
-                ("-n", self.names[spoke], "route", "add", "default", "via", f"10.216.{k}.1"),
-            ]
-            for step in steps:
-                result = _ip(*step)
-                if result.returncode != 0:
-                    return f"ip {' '.join(step)} refused: {result.stderr.strip()}"
-        return None
-
-    def remove(self) -> None:
-        for name in self.made:
-            _ip("netns", "del", name)  # removes its veth ends too
-
-    def address(self, spoke: str) -> str:
-        """``spoke``'s own address on its veth link to the ground-station host."""
-        return f"10.216.{SPOKES.index(spoke) + 1}.2"
-
-    def endpoint(self, spoke: str) -> str:
-        """The ground station's router as seen from ``spoke`` (its side of their veth link)."""
-        return f"tcp/10.216.{SPOKES.index(spoke) + 1}.1:{PORT}"
-
-
-@pytest.fixture
-def namespaces() -> Iterator[Namespaces]:
-    if os.geteuid() != 0:
-        pytest.skip("network namespaces need root")
-    if shutil.which("ip") is None:
-        pytest.skip("no iproute2 (ip) on this host")
-    ns = Namespaces()
-    try:
-        refused = ns.build()
-        if refused is not None:
-            pytest.skip(f"the kernel refused: {refused}")
-        yield ns
-    finally:
-        ns.remove()
 
 
 def _stop(procs: list[subprocess.Popen]) -> None:
@@ -159,7 +87,8 @@ def _fly_across_namespaces(namespaces: Namespaces, out: Path, overrides: list[st
         while not all((plans / f"agent_{v}.json").exists() for v in drones_a + drones_b):
             assert gcs.poll() is None and time.monotonic() < deadline, "the ground station wrote no plans"
             time.sleep(0.2)
-        start("gcs", "router", ["comms.router", "--listen", f"tcp/0.0.0.0:{PORT}", "--connect", "tcp/127.0.0.1:7447"])
+        start("gcs", "router", ["comms.router", "--listen", f"tcp/0.0.0.0:{namespaces.router_port}", "--connect",
+                                "tcp/127.0.0.1:7447"])
         for spoke in ("da", "db"):
             start(spoke, "router", ["comms.router", "--listen", "tcp/127.0.0.1:7447", "--connect",
                                     namespaces.endpoint(spoke)])

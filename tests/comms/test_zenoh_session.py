@@ -319,3 +319,24 @@ def test_a_queue_subscription_keeps_every_sample_in_order_and_drains_nothing_aft
         assert queue.received == 200 and len(latest.drain()) == 1
         rx.close()
         assert queue.drain() == []
+
+
+def test_hot_publisher_and_declared_keys_carry_samples_and_drop_after_close(free_endpoint: Callable[[], str]) -> None:
+    hub_ep = free_endpoint()
+    keys = MissionKeys("zs10")
+    with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
+        rx = ZenohSession(ZenohConfig.member(hub_ep))
+        queue = rx.subscribe_queue(keys.all_states, capacity=100)
+        rx.declare_key(keys.state(4))  # the receiver's route for this key is kept; samples arrive as before
+        put = hub.publisher_of(keys.state(4))
+        time.sleep(0.5)
+        for seq in range(5):
+            put(encode(_state(4, seq)))
+        got: dict[str, bytes] = {}
+        assert _until(lambda: bool(got.update(queue.drain_newest())) or queue.received >= 5)
+        assert got == {keys.state(4): encode(_state(4, 4))} and queue.received == 5  # every sample taken, newest kept
+        rx.close()
+        rx.declare_key(keys.state(5))  # nothing after close, and no error
+        hub.close()
+        put(b"late")
+        assert hub.dropped_after_close == 1

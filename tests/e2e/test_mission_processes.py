@@ -94,6 +94,9 @@ def _check_outputs(out: Path, min_duration_s: float) -> dict[str, object]:
         assert {"HEARTBEAT", "LOCAL_POSITION_NED"} <= _mavlogdump_types(out / f"vehicle_{vid}.tlog")
     events = (out / "events.log").read_text()
     assert "flood clock starts" in events and "mission complete" in events
+    # every agent wrote its exit report (an honest run refuses no relayed copy), read back into both outputs
+    assert "relayed copies refused as impossible: 0 by the vehicles\n" in events
+    assert metrics["summary"]["relayed_copies_refused"] == 0 and metrics["summary"]["relayed_copies_refused_ground"] is None
     return metrics
 
 
@@ -206,6 +209,9 @@ def test_agent_killed_mid_mission_is_reported_and_swarm_goes_on(tmp_path: Path, 
     metrics = json.loads((out / "metrics.json").read_text())
     losses = [loss for loss in metrics["losses"] if loss["vehicle_id"] == 3]
     assert losses, metrics["losses"]
+    assert "unknown for vehicles 3 (no exit report)" in events  # killed: it never wrote its count
+    refused = {vid: v["relayed_copies_refused"] for vid, v in metrics["per_vehicle"].items()}
+    assert refused["3"] is None and refused["1"] == 0, refused
     # The survivors re-space past the unheard, hovering vehicle; measured 1.2-1.45 m closest approach at x1 (docs),
     # so only a real collision (< 0.5 m between live vehicles) fails here.
     assert metrics["summary"]["min_pairwise_distance_m"] >= 0.5, metrics["summary"]

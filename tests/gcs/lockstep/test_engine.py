@@ -51,3 +51,16 @@ def test_full_circle_targets_improved_mode() -> None:
     assert s["encircle_time_s"] <= 20.0 and s["spacing_cv_final"] <= 0.05 and s["max_gap_ratio_final"] <= 1.15
     assert s["tracking_rms_last_10s_m"] <= 0.5 and s["polygon_iou_final"] >= 0.97 and s["coverage_final"] >= 0.97
     assert s["leader_centring_error_last_10s_mean_m"] <= 1.0 and s["min_pairwise_distance_m"] >= 1.0
+
+
+def test_relayed_copies_refused_reach_the_events_and_the_metrics() -> None:
+    """An honest run on a short radio relays copies and refuses none: every vehicle and the ground
+    station's radio node say 0, in events.log's line and in metrics.json (summary and per vehicle)."""
+    scenario = load_scenario("circle", ["radio.range_m=15", "radio.gcs_lossless=false"])
+    result = run_lockstep(scenario, "improved", seed=3, duration_s=1.5)
+    lines = [text for _, text in result.record.events if text.startswith("relayed copies refused")]
+    assert lines == ["relayed copies refused as impossible: 0 by the vehicles, 0 by the ground station's radio node"]
+    metrics = compute_mission_metrics(result.record, result.flood, scenario.camera.fov_deg)
+    assert metrics["summary"]["relayed_copies_refused"] == 0
+    assert metrics["summary"]["relayed_copies_refused_ground"] == 0
+    assert [v["relayed_copies_refused"] for v in metrics["per_vehicle"].values()] == [0] * len(scenario.vehicles)

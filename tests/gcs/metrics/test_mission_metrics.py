@@ -93,3 +93,19 @@ def test_empty_and_very_short_records_give_json_not_errors(samples: int) -> None
     json.dumps(metrics, allow_nan=False)
     assert metrics["summary"]["samples"] == samples
     assert (metrics["summary"]["coverage_final"] is None) == (samples == 0)
+
+
+def test_relayed_copies_refused_in_summary_and_per_vehicle() -> None:
+    record, flood = synthetic_circle_record(duration_s=3.0, polygon_period_s=1.0)
+    n = len(record.vehicle_ids)
+    plain = compute_mission_metrics(record, flood, 60.0)
+    assert plain["summary"]["relayed_copies_refused"] is None and plain["summary"]["relayed_copies_refused_ground"] is None
+    assert all(v["relayed_copies_refused"] is None for v in plain["per_vehicle"].values())
+    record.refused_copies = [None, 4] + [1] * (n - 2)
+    record.ground_refused_copies = 2
+    metrics = compute_mission_metrics(record, flood, 60.0)
+    assert metrics["summary"]["relayed_copies_refused"] == 4 + n - 2
+    assert metrics["summary"]["relayed_copies_refused_ground"] == 2
+    per_vehicle = metrics["per_vehicle"]
+    assert per_vehicle[str(record.vehicle_ids[0])]["relayed_copies_refused"] is None
+    assert per_vehicle[str(record.vehicle_ids[1])]["relayed_copies_refused"] == 4

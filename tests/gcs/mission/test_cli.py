@@ -90,6 +90,9 @@ def test_lockstep_run_writes_the_mission_outputs(tmp_path: Path, backend: str) -
         cwd=REPO, capture_output=True, text=True, timeout=240,
     )
     assert proc.returncode == 0, proc.stderr
-    for name in ("metrics.json", "polygons.geojson", "polygons.kml", "trajectories.png"):
+    for name in ("metrics.json", "polygons.geojson", "polygons.kml", "trajectories.png", "events.log"):
         assert (out / name).is_file() and (out / name).stat().st_size > 0, name
     assert "outputs:" in proc.stdout and f"backend={backend}" in proc.stdout
+    events = (out / "events.log").read_text().splitlines()
+    assert events[0].startswith("t=   0.00s lockstep start: circle") and "lockstep end after" in events[-1]
+    assert "t=   4.00s relayed copies refused as impossible: 0 by the vehicles" in events
