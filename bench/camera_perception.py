@@ -22,6 +22,7 @@ import subprocess
 import time
 from typing import Any
 
+import cv2
 import numpy as np
 
 from mock_autopilot.camera.appearance import ground_textures
@@ -154,6 +155,7 @@ def main() -> None:
     parser.add_argument("--accuracy", type=int, default=0, help="also measure accuracy over this many frames")
     parser.add_argument("--json", default=None, help="write all results to this file")
     args = parser.parse_args()
+    cv2.setNumThreads(1)  # as the agents and the sim bridge run it: the thread's CPU time is then the whole cost
     models = [m for m in args.models.split(",") if m]
     cameras = [CameraModel(*(int(v) for v in size.split("x"))) for size in args.sizes.split(",") if size]
     print(machine())

@@ -74,6 +74,14 @@ def streak_strength(speed_mps: NDArray[np.float32]) -> NDArray[np.float32]:
     return (STREAK_CONTRAST * _smoothstep(speed_mps / np.float32(STREAK_FULL_SPEED_MPS))).astype(np.float32)
 
 
+def streak_strength_of_speed(speed_mps: float) -> float:
+    """:func:`streak_strength` of one speed, in the same float32 arithmetic without numpy's array machinery (the
+    renderer asks once per frame)."""
+    x = np.float32(speed_mps) / np.float32(STREAK_FULL_SPEED_MPS)
+    x = min(max(x, np.float32(0.0)), np.float32(1.0))
+    return float(np.float32(STREAK_CONTRAST) * (x * x * (np.float32(3.0) - np.float32(2.0) * x)))
+
+
 def water_shading(depth_m: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
     """(turbid weight, brightness) per pixel of water at ``depth_m``: shallow water near the shore is the turbid
     colour, deep water is darker (less light comes back from the bottom)."""

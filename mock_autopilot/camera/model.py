@@ -30,7 +30,10 @@ class CameraModel:
             raise ValueError("camera.fov_deg: must be in (0, 170) degrees")
 
     def footprint_side_m(self, altitude_m: float) -> float:
-        """Ground width of the image [m]: ``2 h tan(fov/2)`` (SPEC §3)."""
+        """Ground width of the image [m]: ``2 h tan(fov/2)`` (SPEC §3); a plain number is computed without numpy
+        (every rendered frame asks twice), with the same arithmetic as ``mission_plan.geometry.footprint_side_m``."""
+        if isinstance(altitude_m, float):
+            return 2.0 * altitude_m * math.tan(math.radians(self.fov_deg) / 2.0) if altitude_m > 0.0 else 0.0
         return float(footprint_side_m(altitude_m, self.fov_deg))
 
     def footprint_height_m(self, altitude_m: float) -> float:

@@ -29,7 +29,7 @@ from mock_autopilot.camera.appearance import (
     WET_BAND_UNIT_M,
     ground_textures,
     sensor_effects,
-    streak_strength,
+    streak_strength_of_speed,
     streak_tile,
     water_shading,
 )
@@ -79,6 +79,14 @@ def _pixel_grid(width_px: int, height_px: int, margin_px: int) -> tuple[NDArray[
     return right, -down
 
 
+@lru_cache(maxsize=16)
+def _pixel_axes(width_px: int, height_px: int, margin_px: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Pixel-centre offsets from the image centre [px] along a row (right) and down a column (forward), for the
+    image plus a margin: a level camera's ground point is an affine function of the two, so it is one outer sum."""
+    right, forward = _pixel_grid(width_px, height_px, margin_px)
+    return np.ascontiguousarray(right[0]), np.ascontiguousarray(forward[:, 0])
+
+
 def ground_points_en_m(
     camera: CameraModel, position_enu_m: ArrayLike, yaw_ned_rad: float, margin_px: int = 0,
     tilt_rad: tuple[float, float] = (0.0, 0.0),
@@ -100,13 +108,12 @@ def ground_points_en_m(
     heading = yaw_ned_to_enu_rad(yaw_ned_rad)
     fwd_e, fwd_n = math.cos(heading), math.sin(heading)
     right_e, right_n = fwd_n, -fwd_e
-    right, forward = _pixel_grid(camera.width_px, camera.height_px, margin_px)
-    points = np.empty(right.shape + (2,))
+    right, forward = _pixel_axes(camera.width_px, camera.height_px, margin_px)
+    points = np.empty((forward.size, right.size, 2))
     for axis, origin, along_right, along_forward in ((0, east, right_e, fwd_e), (1, north, right_n, fwd_n)):
-        coordinate = right * (gsd * along_right)
-        coordinate += forward * (gsd * along_forward)
-        coordinate += origin
-        points[..., axis] = coordinate
+        along_row = right * (gsd * along_right)
+        down_column = forward * (gsd * along_forward)
+        np.add(along_row[None, :] + down_column[:, None], origin, out=points[..., axis])
     return points
 
 
@@ -249,7 +256,7 @@ def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], se
     which the current hardly turns)."""
     shape = points_en_m.shape[:2]
     speed = math.hypot(*flow_mps)
-    strength = float(streak_strength(np.float32(speed)))
+    strength = streak_strength_of_speed(speed)
     if strength <= 0.0:
         return np.ones(shape, np.float32)
     c, s = flow_mps[0] / speed, flow_mps[1] / speed
@@ -270,26 +277,26 @@ def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], se
 
 @lru_cache(maxsize=1)
 def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture and the turbid colour added (BGR), so
-    shading a frame is two table lookups: ``water · gain + offset``."""
+    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture (one value for all three channels) and
+    the turbid colour added (BGR), so shading a frame is two table lookups: ``water · gain + offset``."""
     depth = np.arange(256, dtype=np.float32) * DEPTH_LUT_STEP_M
     turbid, brightness = water_shading(depth)
-    gain = (brightness * (1.0 - turbid))[:, None].repeat(3, axis=1)
+    gain = (brightness * (1.0 - turbid)).astype(np.float32)
     offset = turbid[:, None] * WATER_TURBID_BGR[None, :]
-    return gain.reshape(1, 256, 3).astype(np.float32), offset.reshape(1, 256, 3).astype(np.float32)
+    return gain.reshape(1, 256), offset.reshape(1, 256, 3).astype(np.float32)
 
 
 def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32],
                     streaks: NDArray[np.float32]) -> NDArray[np.uint8]:
     """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
     texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated), with flow streaks
-    (``appearance.streak_gain``) on the clear part."""
+    (``appearance.streak_gain``) on the clear part. The gain is the same on every channel, so it is looked up and
+    multiplied once and then spread over the three."""
     gain, offset = _depth_luts()
     step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
-    step3 = cv2.merge([step, step, step])
-    clear_gain = cv2.multiply(cv2.LUT(step3, gain), cv2.merge([streaks, streaks, streaks]))
-    shaded = cv2.multiply(water_bgr, clear_gain, dtype=cv2.CV_32F)
-    return cv2.add(shaded, cv2.LUT(step3, offset), dtype=cv2.CV_8U)
+    clear_gain = cv2.multiply(cv2.LUT(step, gain), streaks)
+    shaded = cv2.multiply(water_bgr, cv2.merge([clear_gain, clear_gain, clear_gain]), dtype=cv2.CV_32F)
+    return cv2.add(shaded, cv2.LUT(cv2.merge([step, step, step]), offset), dtype=cv2.CV_8U)
 
 
 def _texture_transform(

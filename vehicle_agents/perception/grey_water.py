@@ -40,6 +40,10 @@ COARSE_WATER_TEXTURE_MAX = -3.2
 """... and whose median log coefficient of variation over 7x7 pixels is below this (a frame of one class)."""
 MIN_SPLIT_FRACTION = 0.005
 """Each class of an accepted split covers at least this share of the frame."""
+MIN_ENCLOSED_FRACTION = 0.02
+"""A class under this share of the frame that touches no side of the frame is not the flood's edge: a flood is
+larger than the footprint, so its water reaches the frame's side; a blob wholly inside (a smooth patch of soil
+in grass, a puddle) makes the frame one class."""
 GLINT_ROUNDS = 2
 """How many times a rougher high class is taken as glint on water and the rest split again."""
 SCORE_SIGNS = np.array([1.0, -1.0, -1.0, 1.0], np.float32)
@@ -57,17 +61,16 @@ _LEVELS_SQUARED = _LEVELS * _LEVELS
 _LOG_TABLE = np.log(np.arange(256, dtype=np.float32) + 1.0).reshape(1, 256)
 
 
-def cue_stack(image_bgr: NDArray[np.uint8]) -> NDArray[np.float32]:
+def cue_stack(smooth: NDArray[np.uint8], grey8: NDArray[np.uint8]) -> NDArray[np.float32]:
     """(H/2, W/2, 4) float32 at half resolution: chromaticity, saturation, fine texture, log brightness (see the
-    module). The texture is taken at full resolution (its scale is the pixel), then every cue is averaged over 2x2
-    pixels and smoothed over 3x3 of those (about 6x6 pixels of the frame)."""
-    smooth = cv2.medianBlur(image_bgr, 3)
-    grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
+    module) of the 3x3-median frame ``smooth`` and its grey ``grey8``. The texture is taken at full resolution (its
+    scale is the pixel), then every cue is averaged over 2x2 pixels and smoothed over 3x3 of those (about 6x6
+    pixels of the frame)."""
     log_envelope = cv2.LUT(cv2.min(grey8, cv2.medianBlur(grey8, 3)), _LOG_TABLE)
     mean = cv2.blur(log_envelope, (3, 3))
     square = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
     texture = cv2.log(cv2.max(cv2.subtract(square, cv2.multiply(mean, mean)), 1e-6))
-    half = (image_bgr.shape[1] // 2, image_bgr.shape[0] // 2)
+    half = (smooth.shape[1] // 2, smooth.shape[0] // 2)
     small = cv2.resize(smooth, half, interpolation=cv2.INTER_AREA)
     small_float = small.astype(np.float32)
     total = cv2.transform(small_float, _SUM_ROW_3)
@@ -149,7 +152,9 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
     """(water mask or None for a one-class frame, 8-bit score, threshold) for a valid (H, W, 3) uint8 image; a
     one-class frame's threshold puts the frame's mean score above it when the frame is water. The split is found at
     half resolution; the mask is the full-resolution (bilinear) score over the same threshold."""
-    cues = cue_stack(image_bgr)
+    smooth = cv2.medianBlur(image_bgr, 3)
+    grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
+    cues = cue_stack(smooth, grey8)
     mean, std = cv2.meanStdDev(cues)
     weights = SCORE_SIGNS / (std.ravel().astype(np.float32) + 1e-9)
     matrix = np.empty((1, 5), np.float32)
@@ -163,10 +168,10 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
     high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
     water_tex, land_tex, frame_tex = _texture_medians(texture8, high)
     if threshold is not None:
-        water = cv2.morphologyEx(cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1), cv2.MORPH_OPEN, _KERNEL3)
-        water = cv2.morphologyEx(water, cv2.MORPH_CLOSE, _KERNEL5)
+        water = _open_close(cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1))
         fraction = cv2.countNonZero(water) / water.size
-        inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION
+        inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
+            min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
             return water.view(bool), full, threshold + 0.5
         if not inside:
@@ -174,6 +179,19 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
     mean_score = float(cv2.mean(full)[0])
     water = frame_tex < WATER_TEXTURE_MAX and coarse_texture(image_bgr) < COARSE_WATER_TEXTURE_MAX
     return None, full, mean_score - 1.0 if water else mean_score + 1.0
+
+
+def _open_close(water: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """A 0/1 mask without specks: opened 3x3 (stray water pixels), then closed 5x5 (stray land pixels)."""
+    return cv2.morphologyEx(cv2.morphologyEx(water, cv2.MORPH_OPEN, _KERNEL3), cv2.MORPH_CLOSE, _KERNEL5)
+
+
+def _small_class_reaches_side(water: NDArray[np.uint8], fraction: float) -> bool:
+    """Whether the smaller class of a 0/1 water mask holding ``fraction`` water has a pixel on a side of the frame."""
+    sides = (water[0], water[-1], water[:, 0], water[:, -1])
+    if fraction <= 0.5:
+        return any(bool(side.any()) for side in sides)
+    return not all(bool(side.all()) for side in sides)
 
 
 def coarse_texture(image_bgr: NDArray[np.uint8]) -> float:

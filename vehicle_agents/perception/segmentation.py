@@ -181,14 +181,21 @@ def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], w
     """Mean ground offset [m; east, north] of the water and of the land pixels. Level, the projection is affine and
     maps the pixel centroids exactly; tilted, each pixel centre is projected and averaged."""
     if to_ground[2, 0] == 0.0 and to_ground[2, 1] == 0.0:
-        both = project_pixels(to_ground, np.array([water_px[0], land_px[0]]), np.array([water_px[1], land_px[1]]))
-        return both[0], both[1]
+        return _project_point(to_ground, water_px), _project_point(to_ground, land_px)
     centres = _pixel_centres(mask.shape[1], mask.shape[0])
     ground = cv2.perspectiveTransform(centres, to_ground).reshape(mask.shape + (2,))
     m8 = mask.view(np.uint8)
     water = cv2.mean(ground, mask=m8)[:2]
     land = cv2.mean(ground, mask=cv2.bitwise_not(m8) & 1)[:2]
     return np.array(water), np.array(land)
+
+
+def _project_point(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``comms.camera_projection.project_pixels`` of one point, in the same arithmetic on plain floats."""
+    (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = homography.tolist()
+    x, y = float(xy[0]), float(xy[1])
+    w = g20 * x + g21 * y + g22
+    return np.array([(g00 * x + g01 * y + g02) / w, (g10 * x + g11 * y + g12) / w])
 
 
 @lru_cache(maxsize=8)
@@ -207,21 +214,22 @@ def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshol
     m8 = mask.view(np.uint8)
     width = chroma.shape[1]
     flat = chroma.reshape(-1)
-    parts = []
-    # (axis the step runs along, step in the flattened image, where the mask changes from one pixel to the next)
-    for axis, step, changes in ((0, 1, cv2.bitwise_xor(m8[:, :-1], m8[:, 1:])),
-                                (1, width, cv2.bitwise_xor(m8[:-1, :], m8[1:, :]))):
-        found = cv2.findNonZero(changes)
-        if found is None:
-            continue
-        xy = found.reshape(-1, 2)
-        index = xy[:, 1] * width + xy[:, 0]
-        a = flat[index].astype(np.float32)
-        b = flat[index + step].astype(np.float32)
-        frac = np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a)
-        np.maximum(frac, 0.25, out=frac)
-        np.minimum(frac, 0.75, out=frac)
-        point = xy + 0.5
-        point[:, axis] += frac
-        parts.append(point)
-    return np.concatenate(parts) if parts else np.zeros((0, 2))
+    found = [cv2.findNonZero(cv2.bitwise_xor(m8[:, :-1], m8[:, 1:])),  # steps along a row (x)
+             cv2.findNonZero(cv2.bitwise_xor(m8[:-1, :], m8[1:, :]))]  # steps down a column (y)
+    along_x = 0 if found[0] is None else len(found[0])
+    parts = [f.reshape(-1, 2) for f in found if f is not None]
+    if not parts:
+        return np.zeros((0, 2))
+    xy = np.concatenate(parts) if len(parts) > 1 else parts[0]
+    index = xy[:, 1] * width + xy[:, 0]
+    a = flat[index].astype(np.float32)
+    index[:along_x] += 1
+    index[along_x:] += width
+    b = flat[index].astype(np.float32)
+    frac = np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a)
+    np.maximum(frac, 0.25, out=frac)
+    np.minimum(frac, 0.75, out=frac)
+    point = xy + 0.5
+    point[:along_x, 0] += frac[:along_x]
+    point[along_x:, 1] += frac[along_x:]
+    return point

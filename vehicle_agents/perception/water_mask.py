@@ -66,6 +66,8 @@ def _blue_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None,
     grass from dry grass beside a sliver of water); a frame whose pixels are all above neutral is water. None when
     the frame holds no blue water (the other cue decides)."""
     blueness = cv2.transform(image_bgr, _BLUENESS_ROW)
+    if cv2.minMaxLoc(blueness)[1] <= NEUTRAL_BLUENESS - MAX_THRESHOLD_SHIFT:
+        return None  # no pixel can be above any threshold this cue would use: no blue water
     _, binary = cv2.threshold(blueness, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
     n = binary.size
     n_high = cv2.countNonZero(binary)
