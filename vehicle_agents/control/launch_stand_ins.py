@@ -11,7 +11,7 @@ only: the ring, leader and follower laws (eq 6-10) act on what was heard, never 
 
 from __future__ import annotations
 
-from collections.abc import Collection
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -19,12 +19,14 @@ from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.types import NeighbourInfo
 
 
-def launch_stand_ins(params: ControlParams, own_id: int, heard_ids: Collection[int], elapsed_s: float
+def launch_stand_ins(params: ControlParams, own_id: int, heard: Sequence[NeighbourInfo], elapsed_s: float
                      ) -> list[NeighbourInfo]:
-    """The roster's vehicles other than ``own_id`` and those in ``heard_ids``, each hovering on its pad (age
-    ``elapsed_s``, at rest), while ``elapsed_s`` since the mission started is within ``neighbour_timeout_s``."""
+    """The roster's vehicles other than ``own_id`` and those ``heard``, each hovering on its pad (age ``elapsed_s``,
+    at rest), while ``elapsed_s`` since the mission started is within ``neighbour_timeout_s`` (after that, every
+    step returns at once: nothing is built on the control loop)."""
     if elapsed_s > params.neighbour_timeout_s:
         return []
+    heard_ids = {n.vehicle_id for n in heard}
     return [
         NeighbourInfo(vehicle_id=entry.vehicle_id, role=entry.role, position_en_m=np.array(entry.pad_en_m, dtype=float),
                       velocity_en_mps=np.zeros(2), altitude_m=params.nominal_altitude_m, age_s=max(0.0, elapsed_s),

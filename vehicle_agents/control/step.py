@@ -112,7 +112,8 @@ def control_step(
     else:
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
     if params.mode == ControlMode.IMPROVED:
-        obstacles = heard + launch_stand_ins(params, memory.vehicle_id, {n.vehicle_id for n in neighbours}, t_s)
+        stand_ins = launch_stand_ins(params, memory.vehicle_id, neighbours, t_s)
+        obstacles = heard + stand_ins if stand_ins else heard
         if obstacles:
             velocity[:2] = _collision_barrier(role, velocity[:2], own, obstacles, params)
     if not np.all(np.isfinite(velocity)):

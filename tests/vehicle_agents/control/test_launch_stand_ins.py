@@ -16,7 +16,8 @@ PARAMS = ControlParams(mode="improved", roster=ROSTER)
 
 
 def test_unheard_vehicles_with_pads_stand_in_at_rest_on_them() -> None:
-    stand_ins = launch_stand_ins(PARAMS, own_id=1, heard_ids={3}, elapsed_s=0.4)
+    boundary = NeighbourInfo(3, "boundary", np.array([0.0, -5.0]), np.zeros(2), 10.0, group="A")
+    stand_ins = launch_stand_ins(PARAMS, own_id=1, heard=[boundary], elapsed_s=0.4)
     assert [n.vehicle_id for n in stand_ins] == [2]
     assert np.allclose(stand_ins[0].position_en_m, (1.2, 0.0))
     assert np.allclose(stand_ins[0].velocity_en_mps, 0.0)
@@ -24,8 +25,8 @@ def test_unheard_vehicles_with_pads_stand_in_at_rest_on_them() -> None:
 
 
 def test_the_plan_stands_in_no_longer_than_the_table_keeps_a_silent_neighbour() -> None:
-    assert launch_stand_ins(PARAMS, 1, set(), PARAMS.neighbour_timeout_s)
-    assert launch_stand_ins(PARAMS, 1, set(), PARAMS.neighbour_timeout_s + 0.05) == []
+    assert launch_stand_ins(PARAMS, 1, [], PARAMS.neighbour_timeout_s)
+    assert launch_stand_ins(PARAMS, 1, [], PARAMS.neighbour_timeout_s + 0.05) == []
 
 
 def _east_command(neighbours: list[NeighbourInfo], elapsed_s: float) -> float:
