@@ -46,11 +46,13 @@ def heard_after(
         sender = msg.sender_id
         if sender == own_id or sender in departed:
             continue
+        current = table.get(sender)
+        if current is msg:  # the same copy again, through another carrier: already filed
+            continue
         if msg.flags & FLAG_LEAVING:
             departed = departed | {sender}
             table.pop(sender, None)
             continue
-        current = table.get(sender)
         if msg.t_s >= oldest_t_s and (current is None or replaces(msg, current, timeout_s)):
             table[sender] = msg
     return table, departed
