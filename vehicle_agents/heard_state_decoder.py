@@ -53,19 +53,17 @@ with the relayed copies undecoded."""
 _outer_decoder = msgspec.msgpack.Decoder(_StateWithRawCopies)
 _copy_decoder = msgspec.msgpack.Decoder(NeighbourState)
 """A copy decoded as :func:`~comms.messages.decode` does; the reason of a failure comes from there."""
-_SHARED_DEFAULTS = tuple((info.name, info.default) for info in msgspec.structs.fields(_StateWithRawCopies)
-                         if info.default is not msgspec.NODEFAULT)
-"""The defaults a decoder hands out as one shared object (the containers come from factories, fresh each time)."""
+_FIELD_NAMES = tuple(info.name for info in msgspec.structs.fields(NeighbourState))
+_RELAYED = _FIELD_NAMES.index("relayed")
+_AFTER_RELAYED = _RELAYED + 1
 
 
-def _given_fields(wire: Any) -> dict[str, object]:
-    """The fields the message carried: a field it left out holds the shared default object itself, and is left out
-    here so that the state gets its own default, as in a whole decode (``omit_defaults`` encodes by identity)."""
-    fields = msgspec.structs.asdict(wire)
-    for name, default in _SHARED_DEFAULTS:
-        if fields[name] is default:
-            del fields[name]
-    return fields
+def _with_copies(wire: Any, copies: list[NeighbourState]) -> NeighbourState:
+    """The state with ``copies`` in place of the raw ones, every field passed by position: a field the message
+    left out holds the very default object a whole decode would give (``omit_defaults`` then leaves it out again
+    on encoding), and the state's own checks run as in a whole decode."""
+    values = msgspec.structs.astuple(wire)
+    return NeighbourState(*values[:_RELAYED], copies, *values[_AFTER_RELAYED:])
 
 
 class HeardStateDecoder:
@@ -100,11 +98,8 @@ class HeardStateDecoder:
             if copy is None:
                 return None
             copies.append(copy)
-        fields = _given_fields(wire)
-        if copies:
-            fields["relayed"] = copies
         try:
-            state = NeighbourState(**fields)
+            state = _with_copies(wire, copies)
         except InvalidMessage:
             stats.count_drop(_KIND, "invalid")
             return None
