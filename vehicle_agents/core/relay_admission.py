@@ -64,8 +64,12 @@ def admitted(states: Sequence[HeardState], table: Mapping[int, HeardState], t_s:
     """The inbox without the relayed copies refused by :func:`copy_verdict`, and how many were refused. Each copy
     is checked against what the table would hold for its origin at that point of the inbox (the origin's own
     message earlier in the same inbox counts); direct states pass untouched, and an inbox without refusals is
-    returned as it was. A copy met again after it was filed (an agent decodes a copy once for all the carriers that
-    bring it) is filed already: it passes the check against itself and does not replace itself."""
+    returned as it was.
+
+    Most copies a drone hears are not news: the origin's own message or a fresher copy came too, and every
+    neighbour relays the same few origins for a few ticks. A copy (or the entry filed, met again) whose ``seq`` and
+    time stamp are both at most the entry's, and not from the future, is settled at once: its ``seq`` does not run
+    ahead, so it is filed, and it replaces nothing (:func:`~vehicle_agents.core.neighbours.replaces`)."""
     if state_rate_hz <= 0.0:
         return states, 0
     reference = dict(table)
@@ -73,7 +77,8 @@ def admitted(states: Sequence[HeardState], table: Mapping[int, HeardState], t_s:
     latest_t_s = t_s + 1.0 / state_rate_hz
     for i, msg in enumerate(states):
         current = reference.get(msg.sender_id)
-        if current is msg and msg.t_s <= latest_t_s:  # filed already: it passes against itself, replaces nothing
+        if current is not None and msg.seq <= current.seq and msg.t_s <= current.t_s and msg.t_s <= latest_t_s \
+                and (current is msg or hops_of(msg) > 0):
             continue
         if hops_of(msg) > 0 and copy_verdict(msg, current, t_s, state_rate_hz) is not CopyVerdict.FILE:
             refused.add(i)
