@@ -93,10 +93,22 @@ class HeardStateDecoder:
         except Exception:  # msgspec.DecodeError / ValidationError: let the whole decode name the reason
             return decode_with_reason(NeighbourState, payload, stats)[0]
         copies: list[NeighbourState] = []
-        for raw in wire.relayed:
-            copy = self._copy(bytes(raw), stats)
+        this_poll, previous_poll = self._copies, self._previous
+        for raw in wire.relayed:  # ~7 per message, most met before: the lookups are inlined
+            key = bytes(raw)
+            copy = this_poll.get(key)
             if copy is None:
-                return None
+                copy = previous_poll.get(key)
+                if copy is None:
+                    copy = self._decode_copy(key, stats)
+                    if copy is None:
+                        return None
+                    self.copies_decoded += 1
+                else:
+                    self.copies_reused += 1
+                this_poll[key] = copy
+            else:
+                self.copies_reused += 1
             copies.append(copy)
         try:
             state = _with_copies(wire, copies)
@@ -105,22 +117,6 @@ class HeardStateDecoder:
             return None
         stats.count_ok(_KIND)
         return state
-
-    def _copy(self, raw: bytes, stats: DecodeStats) -> NeighbourState | None:
-        copy = self._copies.get(raw)
-        if copy is not None:
-            self.copies_reused += 1
-            return copy
-        copy = self._previous.get(raw)
-        if copy is None:
-            copy = self._decode_copy(raw, stats)
-            if copy is None:
-                return None
-            self.copies_decoded += 1
-        else:
-            self.copies_reused += 1
-        self._copies[raw] = copy
-        return copy
 
     @staticmethod
     def _decode_copy(raw: bytes, stats: DecodeStats) -> NeighbourState | None:
