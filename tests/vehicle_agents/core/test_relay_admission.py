@@ -3,13 +3,15 @@ cannot silence it, in the onboard core and at the ground station; honest copies 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from comms.messages import NeighbourState
 from gcs.polygon.radio_node import GroundNode
 from gcs.scenario import load_scenario
 from vehicle_agents.autopilot_link import AutopilotTelemetry
-from vehicle_agents.core.neighbours import Inbox, heard_after
+from vehicle_agents.core.neighbours import Inbox, heard_after, replaces
 from vehicle_agents.core.onboard import GroundOrder, OnboardInputs, OnboardPlan, initial_state, onboard_step
 from vehicle_agents.core.relay_admission import CopyVerdict, admitted, copy_verdict, max_seq_advance
 from vehicle_agents.core.telemetry import telemetry_batch
@@ -116,3 +118,36 @@ def test_admission_counts_refusals_and_leaves_direct_states_alone() -> None:
     kept, refused = admitted(states, {VICTIM: _state(VICTIM, 1, 0.95)}, 1.0, RATE_HZ)
     assert refused == 2 and kept == [states[0], states[3]]
     assert admitted(states, {}, 1.0, 0.0) == (states, 0)
+
+
+def test_copies_that_are_not_news_are_settled_without_changing_a_verdict() -> None:
+    """Old copies, the filed entry met again and copies shared by several carriers are settled at once; forged
+    ones (seq far ahead behind an old time stamp, or from the future) are still refused. Over random inboxes the
+    result is the rule applied copy by copy (:func:`copy_verdict`, then newest wins)."""
+    filed = _state(VICTIM, 10, 1.0)
+    old_copy, again = _state(VICTIM, 8, 0.9, hops=1), _state(VICTIM, 10, 1.0, hops=2)
+    seq_ahead, future = _state(VICTIM, HUGE_SEQ, 0.5, hops=1), _state(VICTIM, 9, 5.0, hops=1)
+    states = [old_copy, filed, again, seq_ahead, old_copy, future]
+    kept, refused = admitted(states, {VICTIM: filed}, 1.0, RATE_HZ)
+    assert refused == 2 and kept == [old_copy, filed, again, old_copy]
+
+    def one_by_one(inbox: list[NeighbourState], table: dict[int, NeighbourState], t_s: float) -> tuple[list, int]:
+        reference, kept = dict(table), []
+        for msg in inbox:
+            current = reference.get(msg.sender_id)
+            if msg.hops > 0 and copy_verdict(msg, current, t_s, RATE_HZ) is not CopyVerdict.FILE:
+                continue
+            kept.append(msg)
+            if current is None or replaces(msg, current, math.inf):
+                reference[msg.sender_id] = msg
+        return kept, len(inbox) - len(kept)
+
+    rng = np.random.default_rng(11)
+    for _ in range(500):
+        pool = [_state(int(rng.integers(2, 5)), int(rng.integers(0, 40)), float(rng.uniform(0.0, 2.2)),
+                       hops=int(rng.integers(0, 3))) for _ in range(8)]
+        inbox = [pool[int(i)] for i in rng.integers(0, len(pool), size=20)]
+        table = {m.sender_id: m for m in pool[:2]}
+        kept, refused = admitted(inbox, table, 2.0, RATE_HZ)
+        expected_kept, expected_refused = one_by_one(inbox, table, 2.0)
+        assert refused == expected_refused and list(kept) == expected_kept
