@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from comms.messages import NeighbourState
-from vehicle_agents.core.neighbour_filter import EMPTY_BANK, FilterNoise, at_time, position_std_m, update
+from vehicle_agents.core.neighbour_filter import EMPTY_BANK, FilterNoise, at_time, position_std_m, predict, update
 
 
 def _state(vid: int, t_s: float, p: np.ndarray, v: np.ndarray, seq: int = 1) -> NeighbourState:
@@ -85,3 +85,49 @@ def test_update_shrinks_the_uncertainty_again(gap_s: float) -> None:
     bank = update(bank, [_state(1, gap_s, np.zeros(2), np.zeros(2), seq=2)], noise)
     after = position_std_m(at_time(bank, gap_s, noise)[2])[0]
     assert after < before and after <= noise.position_std_m + 1e-9
+
+
+def _update_by_sorting(bank, states, noise):  # noqa: ANN001, ANN202 - the reference: tracks matched by array sorts
+    ids = np.array([m.sender_id for m in states], dtype=np.int64)
+    t_s = np.array([m.t_s for m in states])
+    z = np.array([(*m.position_en_m, *m.velocity_en_mps) for m in states]).reshape(-1, 4)
+    order = np.lexsort((-t_s, ids))
+    ids, t_s, z = ids[order], t_s[order], z[order]
+    first = np.ones(ids.size, dtype=bool)
+    first[1:] = ids[1:] != ids[:-1]
+    ids, t_s, z = ids[first], t_s[first], z[first]
+    r = noise.measurement_variance
+    slot = np.searchsorted(bank.ids, ids)
+    clipped = np.minimum(slot, max(len(bank) - 1, 0))
+    known = (slot < len(bank)) & (bank.ids[clipped] == ids) if len(bank) else np.zeros(ids.size, dtype=bool)
+    x, p, track_t = bank.x.copy(), bank.p.copy(), bank.t_s.copy()
+    fresh = known & (t_s > track_t[clipped]) if len(bank) else known
+    if np.any(fresh):
+        k = slot[fresh]
+        xp, pp = predict(x[k], p[k], t_s[fresh] - track_t[k], noise.accel_psd_m2ps3)
+        gain = np.linalg.solve(pp + np.diag(r)[None], pp).transpose(0, 2, 1)
+        x[k] = xp + np.einsum("mij,mj->mi", gain, z[fresh] - xp)
+        p_upd = pp - gain @ pp
+        p[k] = 0.5 * (p_upd + p_upd.transpose(0, 2, 1))
+        track_t[k] = t_s[fresh]
+    new = ~known
+    all_ids = np.concatenate([bank.ids, ids[new]])
+    keep = np.argsort(all_ids, kind="stable")
+    all_p = np.concatenate([p, np.broadcast_to(np.diag(r), (int(new.sum()), 4, 4))])
+    return all_ids[keep], np.concatenate([track_t, t_s[new]])[keep], np.concatenate([x, z[new]])[keep], all_p[keep]
+
+
+def test_measurements_meet_their_tracks_as_when_matched_by_sorting_bit_for_bit() -> None:
+    """Each sender's newest measurement (the first of equal time stamps) updates its track, older ones are
+    ignored, new senders start tracks in id order: the same floats, bit for bit, as matching by array sorts."""
+    noise = FilterNoise()
+    rng = np.random.default_rng(3)
+    bank = EMPTY_BANK
+    for step in range(300):
+        t_now = 0.05 * step
+        states = [_state(int(rng.integers(1, 12)), t_now - float(rng.choice([0.0, 0.05, 0.1, 0.5])),
+                         rng.normal(0.0, 20.0, 2), rng.normal(0.0, 2.0, 2)) for _ in range(int(rng.integers(1, 15)))]
+        expected = _update_by_sorting(bank, states, noise)
+        bank = update(bank, states, noise)
+        for got, want in zip((bank.ids, bank.t_s, bank.x, bank.p), expected):
+            assert got.shape == want.shape and got.tobytes() == want.tobytes()
