@@ -54,10 +54,3 @@ def bundle_bytes(head: bytes, entries: Sequence[bytes]) -> bytes:
     """A whole ``RadioBundle`` from ``bundle_head(t_s)`` and entries from ``encode_entry``."""
     return b"".join((head, array_header(len(entries)), *entries))
 
-
-def framed_bundles(t_s: float, entries: Sequence[bytes], starts: Sequence[int], ends: Sequence[int]) -> list[bytes]:
-    """The ``RadioBundle`` at ``t_s`` of each slice ``entries[start:end]``: one delivery cycle's bundles, framed in
-    one loop (the head encoded once, no call per bundle beyond the join)."""
-    head, fixarray = bundle_head(t_s), _FIXARRAY_HEADERS
-    return [b"".join((head, fixarray[b - a] if b - a < 16 else array_header(b - a), *entries[a:b]))
-            for a, b in zip(starts, ends)]

@@ -36,6 +36,19 @@ class RadioBundle(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
     entries: list[tuple[int, bytes]]
 
 
+class RadioGroupBundle(msgspec.Struct, frozen=True, tag_field="schema", tag="fw/radiogroup/1"):
+    """What the radio emulator hands a group of receivers in one delivery tick (:mod:`comms.radio_groups`).
+
+    ``entries``: (sender_id, NeighbourState payload) pairs, each message once, the senders' own bytes;
+    ``selections``: (receiver_id, indices into ``entries`` in that receiver's delivery order) per member with
+    something due. A receiver keeps only its own selection.
+    """
+
+    t_s: float
+    selections: list[tuple[int, list[int]]]
+    entries: list[tuple[int, bytes]]
+
+
 class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
     """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
 

@@ -18,9 +18,10 @@ from dataclasses import dataclass
 import msgspec
 import numpy as np
 
-from comms.bundle_wire import encode_entry, framed_bundles
+from comms.bundle_wire import encode_entry
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
+from comms.radio_groups import framed_group_bundles
 from comms.radio_model import GROUND_NODE_ID, RadioModel
 from comms.signing import Verifier, unsigned_body
 
@@ -28,7 +29,7 @@ TRUTH_RESTART_S = 5.0
 AGENT_RESTART_S = 1.0  # a lower seq with a source time this much newer is a restarted agent, not a stale message
 _MAX_STATE_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
 _STATE_KIND = NeighbourState.__name__
-_DUE, _RECEIVER, _SENDER, _PAYLOAD, _ENTRY = range(5)  # the in-flight columns
+_DUE, _RECEIVER, _SENDER, _PAYLOAD, _ENTRY, _MESSAGE = range(6)  # the in-flight columns
 
 
 class StateHeader(msgspec.Struct, frozen=True, tag_field="schema", tag="fw/state/1"):
@@ -79,7 +80,8 @@ class RadioRelay:
         self._budget_limited = self.budgets.limited
         self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
         self.verifier = verifier
-        self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, encoded bundle entry
+        self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, bundle entry, message
+        self._messages_decided = 0  # numbers the messages, so a group's bundle carries each one once
         self._in_flight_count = 0
         self._positions: np.ndarray | None = None
         self._alive_count = 0
@@ -209,7 +211,8 @@ class RadioRelay:
         entries = np.empty(len(batch), dtype=object)
         entries[:] = [encode_entry(sid, payload) for sid, payload in zip(sender_ids, payload_list)]
         self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m],
-                                entries[m]))
+                                entries[m], self._messages_decided + m))
+        self._messages_decided += len(batch)
         self._in_flight_count += n_ok
 
     def _count_links(self, sender_index: np.ndarray, receiver_index: np.ndarray, delivered: np.ndarray) -> None:
@@ -234,14 +237,15 @@ class RadioRelay:
         senders, payloads = columns[_SENDER].tolist(), columns[_PAYLOAD].tolist()
         return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers, starts, ends)}
 
-    def pop_due_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
-        """What ``pop_due`` hands over, as each receiver's encoded ``RadioBundle`` stamped ``t_s``: the entries
-        were encoded once per message in ``flush`` and are only framed here (:mod:`comms.bundle_wire`)."""
-        ready = self._take_ready(now_s, (_ENTRY,))
+    def pop_due_group_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
+        """What ``pop_due`` hands over, as one encoded ``RadioGroupBundle`` stamped ``t_s`` per group of receivers
+        (:mod:`comms.radio_groups`): [(group, bytes), ...]. The entries were encoded once per message in ``flush``
+        and are only framed here."""
+        ready = self._take_ready(now_s, (_ENTRY, _MESSAGE))
         if ready is None:
             return []
         receivers, columns, starts, ends = ready
-        return list(zip(receivers, framed_bundles(t_s, columns[_ENTRY].tolist(), starts, ends)))
+        return framed_group_bundles(t_s, receivers, starts, ends, columns[_MESSAGE], columns[_ENTRY])
 
     def _take_ready(self, now_s: float, wanted: tuple[int, ...]
                     ) -> tuple[list[int], dict[int, np.ndarray], list[int], list[int]] | None:

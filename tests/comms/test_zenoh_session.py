@@ -16,6 +16,7 @@ import pytest
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import DecodeStats, NeighbourState, encode
+from comms.radio_groups import group_inbox_key
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 
@@ -72,7 +73,7 @@ def test_bad_payloads_on_public_and_inbox_keys_are_dropped_and_counted(free_endp
         for vid, payload in enumerate((b"", b"\xff" * 50, encode(_state(3, 1))[:-4], b"\x00" * 20_000), start=10):
             agent_session.put(keys.state(vid), payload)
         agent_session.put(keys.state(4), encode(_state(5, 1)))  # claims to be 5 on 4's key
-        hub.put(keys.inbox(1), b"not a bundle")
+        hub.put(group_inbox_key(keys, 1), b"not a bundle")
         time.sleep(0.3)
         direct.poll()
         radio.poll()

@@ -1,0 +1,85 @@
+"""Group bundles: framed bytes equal the codec's, each receiver reads back exactly its own deliveries."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from comms.bundle_wire import encode_entry
+from comms.keys import MissionKeys
+from comms.messages import RadioGroupBundle, decode, encode
+from comms.radio_groups import (
+    RADIO_GROUP_SIZE,
+    framed_group_bundles,
+    group_bundle_bytes,
+    group_head,
+    group_inbox_key,
+    group_of,
+    selected_entries,
+)
+from comms.swarm_link import bundle_unpacker
+
+
+@pytest.mark.parametrize("count", [0, 1, 15, 16, 300, 65536])
+def test_group_bundle_bytes_equal_the_codecs_encoding(count: int) -> None:
+    entries = [(i % 7 + 1, bytes([i % 251]) * (i % 5)) for i in range(count)]
+    selections = [(3, list(range(0, count, 2))), (5, list(range(count - 1, -1, -3)))]
+    framed = group_bundle_bytes(group_head(12.345678), selections, [encode_entry(s, p) for s, p in entries])
+    expected = RadioGroupBundle(t_s=12.345678, selections=selections, entries=entries)
+    assert framed == encode(expected)
+    assert decode(RadioGroupBundle, framed) == expected
+
+
+def _deliveries(seed: int) -> dict[int, list[int]]:
+    """Random receivers (ids 0-60, several groups) and, per receiver, the message numbers due to it in delivery order."""
+    rng = np.random.default_rng(seed)
+    receivers = sorted(rng.choice(61, size=25, replace=False).tolist())
+    return {r: rng.permutation(40)[: rng.integers(1, 20)].tolist() for r in receivers}
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_every_receiver_reads_back_exactly_its_deliveries(seed: int) -> None:
+    due = _deliveries(seed)
+    messages = {m: (100 + m, bytes([m]) * (m % 9 + 1)) for m in range(40)}
+    receivers = list(due)
+    ends = np.cumsum([len(v) for v in due.values()]).tolist()
+    starts = [0, *ends[:-1]]
+    message_ids = np.array([m for v in due.values() for m in v], dtype=np.int64) + 1000
+    entries = np.empty(message_ids.size, dtype=object)
+    entries[:] = [encode_entry(*messages[m - 1000]) for m in message_ids.tolist()]
+    bundles = framed_group_bundles(4.5, receivers, starts, ends, message_ids, entries)
+    assert [g for g, _ in bundles] == sorted({group_of(r) for r in receivers})
+    got = {}
+    for group, payload in bundles:
+        bundle = decode(RadioGroupBundle, payload)
+        assert bundle is not None
+        members = [r for r, _ in bundle.selections]
+        assert members == [r for r in receivers if group_of(r) == group]
+        wanted = sorted({m for r in members for m in due[r]})
+        assert bundle.entries == [messages[m] for m in wanted]  # each message once, in message order
+        got.update({r: selected_entries(bundle, r) for r in members})
+    assert got == {r: [messages[m] for m in ms] for r, ms in due.items()}
+
+
+def test_a_receiver_takes_only_its_selection_through_the_inbox_unpacker() -> None:
+    keys = MissionKeys("m")
+    entries = [(1, b"a"), (2, b"b"), (3, b"c")]
+    payload = encode(RadioGroupBundle(t_s=1.0, selections=[(9, [2, 0]), (10, [1])], entries=entries))
+    assert bundle_unpacker(keys, 9)("k", payload) == [(keys.state(3), b"c"), (keys.state(1), b"a")]
+    assert bundle_unpacker(keys, 10)("k", payload) == [(keys.state(2), b"b")]
+    assert bundle_unpacker(keys, 11)("k", payload) == []
+    with pytest.raises(ValueError):
+        bundle_unpacker(keys)("k", payload)
+    bad = encode(RadioGroupBundle(t_s=1.0, selections=[(9, [3])], entries=entries))
+    with pytest.raises(IndexError):
+        bundle_unpacker(keys, 9)("k", bad)
+    negative = encode(RadioGroupBundle(t_s=1.0, selections=[(9, [-1])], entries=entries))
+    with pytest.raises(IndexError):
+        bundle_unpacker(keys, 9)("k", negative)
+
+
+def test_group_keys() -> None:
+    keys = MissionKeys("m")
+    assert group_inbox_key(keys, 0) == group_inbox_key(keys, RADIO_GROUP_SIZE - 1) == "floodwatch/m/radio/group/0"
+    assert group_inbox_key(keys, RADIO_GROUP_SIZE) == "floodwatch/m/radio/group/1"
+    assert keys.vehicle_id_of(keys.radio_group(3)) is None
