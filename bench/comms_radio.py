@@ -106,7 +106,9 @@ def receiver(hub: str, mission: str, duration_s: float, sample_every: int) -> in
             return []
         bundle = bundle_decoder.decode(payload)
         if isinstance(bundle, RadioGroupBundle):
-            selections = [(r, [bundle.entries[i] for i in indices]) for r, indices in bundle.selections]
+            runs = np.cumsum([0, *bundle.counts]).tolist()
+            selections = [(r, [bundle.entries[i] for i in bundle.indices[a:b]])
+                          for r, a, b in zip(bundle.receivers, runs[:-1], runs[1:])]
         else:
             selections = [(keys.vehicle_id_of(key) or 0, bundle.entries)]
         lat = [now - time_decoder.decode(data).t_s for r, entries in selections if r % sample_every == 0
@@ -137,6 +139,22 @@ def delivered_so_far(stats: LatestValueBuffer) -> int | None:
         if report is not None:
             delivered = report.delivered
     return delivered
+
+
+def wait_until_idle(stats: LatestValueBuffer, timeout_s: float = 30.0) -> float:
+    """After the load stops: wait until two of the emulator's stats reports in a row show the same delivered count
+    (it has worked off its backlog), so the receiver is not stopped while deliveries are still on their way; returns
+    the seconds waited."""
+    start = time.monotonic()
+    last = None
+    while time.monotonic() - start < timeout_s:
+        stats.wait(1.5)
+        delivered = delivered_so_far(stats)
+        if delivered is not None:
+            if delivered == last:
+                break
+            last = delivered
+    return time.monotonic() - start
 
 
 def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latency_s: float, tick_s: float, hub: str,
@@ -201,6 +219,7 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
             threads1 = thread_cpu_seconds(radio.pid)
             sent_measured = int(seq.sum()) - sent_at_measure
             lag = float(max(0.0, time.monotonic() - next_send.min()))
+            settle_s = wait_until_idle(stats)
             time.sleep(0.5)
         finally:
             rx.send_signal(signal.SIGTERM)
@@ -233,6 +252,7 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
         "p99_ms": float(np.percentile(lat, 99) * 1e3) if lat.size else float("nan"),
         "samples": int(lat.size),
         "generator_lag_s": lag,
+        "settle_s": settle_s,
         "radio_thread_cpu_pct": {name: round(100.0 * (cpu - threads0.get(name, 0.0)) / (t_end - t_measure), 1)
                                  for name, cpu in sorted(threads1.items()) if cpu - threads0.get(name, 0.0) > 0},
         "radio_summary": summary,

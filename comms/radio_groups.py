@@ -4,7 +4,7 @@ Why: at 300 drones × 20 Hz the emulator's cost beyond taking the states in is p
 bundle over its Python thread and Zenoh's ``app`` and ``tx`` threads, docs/BENCHMARKS.md), and with one bundle per
 receiver per cycle it made up to 16 000 puts a second. A group of ``RADIO_GROUP_SIZE`` receivers gets one
 ``RadioGroupBundle`` on ``floodwatch/<m>/radio/group/<g>``: every message due to any member, each once, and per
-member the indices of the entries that are its own. Every member subscribes to its group's key and keeps only its
+member (``receivers``, ``counts``) its run of ``indices`` into those entries. Every member subscribes to its group's key and keeps only its
 selection, so what each receiver hears is still exactly what the radio model decided for that directed link (the
 drops, delays and counters stay per link; the group only shares the Zenoh sample).
 
@@ -14,7 +14,7 @@ role and rank (a boundary group's drones are consecutive along the ring), so con
 range of each other and a group's union of messages is far smaller than the sum of its members' deliveries (300
 drones on a 10 m grid, groups of 8 along a row: ≈55 messages a period for 8 × 17.5 deliveries). Where they do not,
 a bundle carries more of the others' entries, never other deliveries. A member could read the other members'
-selections; the agents are ours and keep only their own.
+runs; the agents are ours and keep only their own.
 
 The bytes are framed from entries encoded once per message (:mod:`comms.bundle_wire`), exactly what the codec makes
 of the same ``RadioGroupBundle`` (tested).
@@ -36,8 +36,9 @@ RADIO_GROUP_SIZE = 8
 bundle; the ground station's node (id 0) shares group 0 with vehicles 1–7."""
 
 _encoder = msgspec.msgpack.Encoder()
-_ENTRIES_KEY = _encoder.encode("entries")
-_EMPTY_TAIL = b"\x90" + _ENTRIES_KEY + b"\x90"  # empty selections, the entries key, empty entries
+_COUNTS_KEY, _INDICES_KEY, _ENTRIES_KEY = (_encoder.encode(name) for name in ("counts", "indices", "entries"))
+_EMPTY_TAIL = b"".join((b"\x90", _COUNTS_KEY, b"\x90", _INDICES_KEY, b"\x90", _ENTRIES_KEY, b"\x90"))
+_DENSE_CELLS = 1 << 20  # above this many (group, message) cells the distinct pairs are found by sorting instead
 
 
 def group_of(receiver_id: int) -> int:
@@ -51,18 +52,45 @@ def group_inbox_key(keys: MissionKeys, receiver_id: int) -> str:
 
 
 def group_head(t_s: float) -> bytes:
-    """Everything of a ``RadioGroupBundle`` at ``t_s`` before its selections (the same for every group of one
-    delivery cycle)."""
-    empty = _encoder.encode(RadioGroupBundle(t_s=t_s, selections=[], entries=[]))
+    """Everything of a ``RadioGroupBundle`` at ``t_s`` before its ``receivers`` list (the same for every group of
+    one delivery cycle)."""
+    empty = _encoder.encode(RadioGroupBundle(t_s=t_s, receivers=[], counts=[], indices=[], entries=[]))
     if not empty.endswith(_EMPTY_TAIL):
-        raise AssertionError("RadioGroupBundle's fields must end with selections, then entries")
+        raise AssertionError("RadioGroupBundle's fields must end with receivers, counts, indices, entries")
     return empty[: -len(_EMPTY_TAIL)]
 
 
-def group_bundle_bytes(head: bytes, selections: list[tuple[int, list[int]]], entries: Sequence[bytes]) -> bytes:
-    """A whole ``RadioGroupBundle`` from ``group_head(t_s)``, the members' selections and entries from
+def group_bundle_bytes(head: bytes, receivers: list[int], counts: list[int], indices: list[int],
+                       entries: Sequence[bytes]) -> bytes:
+    """A whole ``RadioGroupBundle`` from ``group_head(t_s)``, its lists, and entries from
     ``bundle_wire.encode_entry``."""
-    return b"".join((head, _encoder.encode(selections), _ENTRIES_KEY, array_header(len(entries)), *entries))
+    return b"".join((head, _encoder.encode(receivers), _COUNTS_KEY, _encoder.encode(counts), _INDICES_KEY,
+                     _encoder.encode(indices), _ENTRIES_KEY, array_header(len(entries)), *entries))
+
+
+def _distinct_per_group(group_rank: np.ndarray, message_ids: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For deliveries (group rank ascending, message id): (each delivery's index among its group's distinct
+    messages, ordered by message id; a delivery of each distinct (group, message) pair, group-major; the group rank
+    of each pair)."""
+    first_message = int(message_ids.min())
+    span = int(message_ids.max()) - first_message + 1
+    groups = int(group_rank[-1]) + 1
+    cell = group_rank * span + (message_ids - first_message)
+    if groups * span <= _DENSE_CELLS:  # a mark per (group, message) cell and a running count: no sort
+        present = np.zeros(groups * span, dtype=bool)
+        present[cell] = True
+        running = np.cumsum(present)
+        row_start = np.concatenate(([0], running[span - 1::span][:-1]))
+        local = running[cell] - 1 - row_start[group_rank]
+        pairs = np.flatnonzero(present)
+        delivery_of = np.empty(groups * span, dtype=np.int64)
+        delivery_of[cell] = np.arange(cell.size)  # any delivery of the pair: they all carry the same entry
+        return local, delivery_of[pairs], pairs // span
+    unique, first, inverse = np.unique(cell, return_index=True, return_inverse=True)
+    pair_group = unique // span
+    group_start = np.searchsorted(pair_group, pair_group)
+    inverse = inverse.reshape(-1)
+    return inverse - group_start[inverse], first, pair_group
 
 
 def framed_group_bundles(t_s: float, receivers: Sequence[int], starts: Sequence[int], ends: Sequence[int],
@@ -72,38 +100,39 @@ def framed_group_bundles(t_s: float, receivers: Sequence[int], starts: Sequence[
     The deliveries come sorted by receiver (ascending) and, within one, by delivery time: receiver
     ``receivers[k]`` gets ``message_ids[starts[k]:ends[k]]``, whose encoded entries are the same rows of
     ``entries``. Each group's entries are the distinct messages its members get, in message order; each member's
-    selection lists its messages' indices in its delivery order."""
+    indices list its messages in its delivery order."""
     member_group = np.asarray(receivers, dtype=np.int64) // RADIO_GROUP_SIZE
     counts = np.asarray(ends, dtype=np.int64) - np.asarray(starts, dtype=np.int64)
-    delivery_group = np.repeat(member_group, counts)
-    first_message = int(message_ids.min())
-    span = int(message_ids.max()) - first_message + 1
-    unique, first, inverse = np.unique(delivery_group * span + (message_ids - first_message), return_index=True,
-                                       return_inverse=True)
-    unique_group = unique // span
-    group_start = np.searchsorted(unique_group, unique_group)
-    local = (inverse.reshape(-1) - group_start[inverse.reshape(-1)]).tolist()
-    shared = entries[first].tolist()
-    entry_bounds = [0, *(np.flatnonzero(np.diff(unique_group)) + 1).tolist(), unique.size]
-    member_bounds = [0, *(np.flatnonzero(np.diff(member_group)) + 1).tolist(), member_group.size]
-    groups = member_group[member_bounds[:-1]].tolist()
+    member_bounds = np.concatenate(([0], np.flatnonzero(np.diff(member_group)) + 1, [member_group.size]))
+    member_rank = np.zeros(member_group.size, dtype=np.int64)
+    member_rank[member_bounds[1:-1]] = 1
+    local, first, pair_group = _distinct_per_group(np.repeat(np.cumsum(member_rank), counts), message_ids)
+    entry_bounds = np.searchsorted(pair_group, np.arange(member_bounds.size)).tolist()
+    delivery_bounds = np.concatenate(([0], np.cumsum(counts)))[member_bounds].tolist()
+    shared, local_list, count_list = entries[first].tolist(), local.tolist(), counts.tolist()
+    groups, bounds = member_group[member_bounds[:-1]].tolist(), member_bounds.tolist()
+    receiver_list = list(receivers)
     head = group_head(t_s)
-    out: list[tuple[int, bytes]] = []
-    for k, group in enumerate(groups):
-        members = range(member_bounds[k], member_bounds[k + 1])
-        selections = [(receivers[m], local[starts[m]:ends[m]]) for m in members]
-        out.append((group, group_bundle_bytes(head, selections, shared[entry_bounds[k]:entry_bounds[k + 1]])))
-    return out
+    return [(group, group_bundle_bytes(head, receiver_list[bounds[k]:bounds[k + 1]], count_list[bounds[k]:bounds[k + 1]],
+                                       local_list[delivery_bounds[k]:delivery_bounds[k + 1]],
+                                       shared[entry_bounds[k]:entry_bounds[k + 1]]))
+            for k, group in enumerate(groups)]
 
 
 def selected_entries(bundle: RadioGroupBundle, receiver_id: int) -> list[tuple[int, bytes]]:
     """The (sender_id, payload) entries of ``bundle`` that are ``receiver_id``'s, in its delivery order ([] when the
-    bundle holds nothing for it). Raises IndexError on a selection pointing outside the entries."""
-    for member, indices in bundle.selections:
-        if member == receiver_id:
-            entries = bundle.entries
-            for i in indices:
-                if i < 0:
-                    raise IndexError("negative radio bundle selection")
-            return [entries[i] for i in indices]
-    return []
+    bundle holds nothing for it). Raises ValueError on lists that do not fit together, IndexError on an index
+    outside the entries."""
+    receivers, counts, indices = bundle.receivers, bundle.counts, bundle.indices
+    if len(counts) != len(receivers) or sum(counts) != len(indices) or min(counts, default=0) < 0:
+        raise ValueError("radio group bundle: receivers, counts and indices do not match")
+    try:
+        position = receivers.index(receiver_id)
+    except ValueError:
+        return []
+    offset = sum(counts[:position])
+    entries = bundle.entries
+    mine = indices[offset:offset + counts[position]]
+    if min(mine, default=0) < 0:
+        raise IndexError("negative radio bundle index")
+    return [entries[i] for i in mine]

@@ -166,7 +166,7 @@ def test_group_bundles_carry_what_pop_due_hands_over() -> None:
         bundle = decode(RadioGroupBundle, payload)
         assert bundle is not None and bundle.t_s == 7.5
         assert len(bundle.entries) == len(set(bundle.entries))  # each message once per group
-        for receiver, _ in bundle.selections:
+        for receiver in bundle.receivers:
             assert receiver // RADIO_GROUP_SIZE == group
             got[receiver] = [tuple(e) for e in selected_entries(bundle, receiver)]
     assert got == expected
