@@ -126,6 +126,13 @@ def receiver(hub: str, mission: str, duration_s: float, sample_every: int) -> in
         stop = threading.Event()
         signal.signal(signal.SIGTERM, lambda *_: stop.set())
         stop.wait(duration_s)
+        while True:  # asked to stop: first take what is still on its way (a loaded host delivers late)
+            with lock:
+                before = counts["bundles"]
+            time.sleep(1.0)
+            with lock:
+                if counts["bundles"] == before:
+                    break
     with lock:
         print(json.dumps({"latencies": latencies, **counts}), flush=True)
     return 0

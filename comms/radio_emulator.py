@@ -153,7 +153,7 @@ class RadioEmulator:
         for group, bundle in bundles:
             put = inboxes.get(group)
             if put is None:
-                put = inboxes[group] = self.session.publisher_of(self.keys.radio_group(group))
+                put = inboxes[group] = self.session.publisher_of(self.keys.radio_group(group), block=True)
             put(bundle)
         self.bundles_out += len(bundles)
 
