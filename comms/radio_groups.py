@@ -4,16 +4,16 @@ Why: at 300 drones × 20 Hz the emulator's cost beyond taking the states in is p
 bundle over its Python thread and Zenoh's ``app`` and ``tx`` threads, docs/BENCHMARKS.md), and with one bundle per
 receiver per cycle it made up to 16 000 puts a second. A group of ``RADIO_GROUP_SIZE`` receivers gets one
 ``RadioGroupBundle`` on ``floodwatch/<m>/radio/group/<g>``: every message due to any member, each once, and per
-member (``receivers``, ``counts``) its run of ``indices`` into those entries. Every member subscribes to its group's key and keeps only its
-selection, so what each receiver hears is still exactly what the radio model decided for that directed link (the
-drops, delays and counters stay per link; the group only shares the Zenoh sample).
+member (``receivers``, ``counts``) its run of ``indices`` into those entries. Every member subscribes to its
+group's key and keeps only its own run, so what each receiver hears is still exactly what the radio model decided
+for that directed link (the drops, delays and counters stay per link; the group only shares the Zenoh sample).
 
 Groups are fixed by vehicle id (``group_of``), not by position: only the emulator knows true positions, and a group
 that followed them would make agents resubscribe as they fly and lose what was put in between. Ids are given by
 role and rank (a boundary group's drones are consecutive along the ring), so consecutive ids mostly fly within
 range of each other and a group's union of messages is far smaller than the sum of its members' deliveries (300
-drones on a 10 m grid, groups of 8 along a row: ≈55 messages a period for 8 × 17.5 deliveries). Where they do not,
-a bundle carries more of the others' entries, never other deliveries. A member could read the other members'
+drones on a 10 m grid, numbered row by row: 82 messages a period for 16 × 17.5 deliveries). Where they do not, a
+bundle carries more of the others' entries, never other deliveries. A member could read the other members'
 runs; the agents are ours and keep only their own.
 
 The bytes are framed from entries encoded once per message (:mod:`comms.bundle_wire`), exactly what the codec makes
@@ -31,9 +31,11 @@ from comms.bundle_wire import array_header
 from comms.keys import MissionKeys
 from comms.link_messages import RadioGroupBundle
 
-RADIO_GROUP_SIZE = 8
+RADIO_GROUP_SIZE = 16
 """Receivers per group key. Larger groups mean fewer puts but more of the others' entries in every member's
-bundle; the ground station's node (id 0) shares group 0 with vehicles 1–7."""
+bundle (300 drones on the 10 m grid: 82 messages a period for a member's own 17.5 with 16, 50 with 8; 16 cost
+0.67–0.87 of 8's CPU per delivery, docs/BENCHMARKS.md). The ground station's node (id 0) shares group 0 with
+vehicles 1–15."""
 
 _encoder = msgspec.msgpack.Encoder()
 _COUNTS_KEY, _INDICES_KEY, _ENTRIES_KEY = (_encoder.encode(name) for name in ("counts", "indices", "entries"))
