@@ -164,8 +164,8 @@ def wait_until_idle(stats: LatestValueBuffer, timeout_s: float = 30.0) -> float:
     return time.monotonic() - start
 
 
-def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latency_s: float, tick_s: float, hub: str,
-            tree: Path = REPO) -> dict:
+def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latency_s: float, tick_s: float | None,
+            hub: str, tree: Path = REPO) -> dict:
     mission = f"bench{n}"
     load_before = os.getloadavg()[0]
     keys = MissionKeys(mission)
@@ -174,8 +174,9 @@ def run_one(n: int, duration_s: float, warmup_s: float, spacing_m: float, latenc
     env = dict(os.environ, PYTHONPATH=str(tree))
     with ZenohSession(ZenohConfig.hub(hub)) as session:
         stats = session.subscribe(keys.radio_stats)
+        tick = [] if tick_s is None else ["--tick-s", str(tick_s)]
         radio = subprocess.Popen([sys.executable, "-m", "comms.radio", "--mission", mission, "--range-m", "25",
-                                  "--latency-s", str(latency_s), "--tick-s", str(tick_s), "--connect", hub], cwd=tree, env=env,
+                                  "--latency-s", str(latency_s), *tick, "--connect", hub], cwd=tree, env=env,
                                  stderr=subprocess.PIPE, text=True)
         rx = subprocess.Popen([sys.executable, __file__, "--role", "receiver", "--hub", hub, "--mission", mission,
                                "--duration-s", str(duration_s + warmup_s + 30),
@@ -273,6 +274,13 @@ def _summary_count(summary: str, name: str) -> int:
     return int(summary.split(f"{name} ")[1].split(",")[0])
 
 
+def tree_option(text: str, tick_s: float | None) -> tuple[str, Path, float | None]:
+    """``LABEL=PATH[@TICK_S]`` -> (label, checkout, its emulator's --tick-s, else ``tick_s``)."""
+    label, _, rest = text.partition("=")
+    path, _, tick = rest.partition("@")
+    return label, Path(path).resolve(), float(tick) if tick else tick_s
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Radio emulator latency and CPU benchmark.")
     parser.add_argument("--role", choices=("driver", "receiver"), default="driver")
@@ -281,24 +289,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--warmup-s", type=float, default=2.0)
     parser.add_argument("--spacing-m", type=float, default=10.0)
     parser.add_argument("--latency-s", type=float, default=0.0, help="radio model latency (0 = pure pipeline cost)")
-    parser.add_argument("--tick-s", type=float, default=0.005, help="radio delivery cycle (comms.radio --tick-s)")
+    parser.add_argument("--tick-s", type=float, default=None,
+                        help="radio delivery cycle (comms.radio --tick-s; default: each emulator's own default)")
     parser.add_argument("--hub", default="tcp/127.0.0.1:24447")
     parser.add_argument("--mission", default="bench")
     parser.add_argument("--sample-every", type=int, default=1, help="receiver role: time every k-th receiver")
-    parser.add_argument("--tree", action="append", default=[], metavar="LABEL=PATH",
-                        help="run the emulator of this checkout (repeatable: alternated per drone count; default: this one)")
+    parser.add_argument("--tree", action="append", default=[], metavar="LABEL=PATH[@TICK_S]",
+                        help="run the emulator of this checkout, with its own --tick-s after '@' (repeatable: alternated "
+                             "per drone count, ratios against the first; default: this one)")
     args = parser.parse_args(argv)
     if args.role == "receiver":
         return receiver(args.hub, args.mission, args.duration_s, args.sample_every)
-    trees = [(label, Path(path).resolve()) for label, _, path in (t.partition("=") for t in args.tree)] or [("this", REPO)]
+    trees = [tree_option(t, args.tick_s) for t in args.tree] or [("this", REPO, args.tick_s)]
     print("| emulator | drones | load | mean neighbours | states in /s | deliveries /s | delivered / received | input gaps "
           "| bundles /s | radio CPU % of one core | radio CPU ms per 1000 deliveries | latency p50 ms | p99 ms |")
     print("|---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|")
-    ratios: list[float] = []
+    ratios: dict[str, list[float]] = {label: [] for label, _, _ in trees[1:]}
     for n in args.drones:
         per_tree = []
-        for label, tree in trees:
-            r = run_one(n, args.duration_s, args.warmup_s, args.spacing_m, args.latency_s, args.tick_s, args.hub, tree)
+        for label, tree, tick_s in trees:
+            r = run_one(n, args.duration_s, args.warmup_s, args.spacing_m, args.latency_s, tick_s, args.hub, tree)
             per_tree.append(r["radio_cpu_ms_per_1000"])
             load = "{:.1f} → {:.1f}".format(*r["load_average"])
             print(f"| {label} | {r['drones']} | {load} | {r['mean_neighbours']:.1f} | {r['states_per_s']:.0f} | "
@@ -306,11 +316,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                   f"{r['bundles_per_s']:.0f} | {r['radio_cpu_pct']:.0f} | {r['radio_cpu_ms_per_1000']:.2f} | {r['p50_ms']:.2f} | "
                   f"{r['p99_ms']:.2f} |", flush=True)
             print(f"<!-- {json.dumps({k: v for k, v in r.items()})} -->", flush=True)
-        if len(per_tree) == 2:
-            ratios.append(per_tree[1] / per_tree[0])
-    if ratios:
-        print(f"CPU per 1000 deliveries, {trees[1][0]} / {trees[0][0]} per pair: {', '.join(f'{x:.2f}' for x in ratios)}; "
-              f"median {float(np.median(ratios)):.2f}; <= 0.5 in {sum(x <= 0.5 for x in ratios)} of {len(ratios)}")
+        for (label, _, _), cpu in zip(trees[1:], per_tree[1:]):
+            ratios[label].append(cpu / per_tree[0])
+    for label, values in ratios.items():
+        print(f"CPU per 1000 deliveries, {label} / {trees[0][0]} per pair: {', '.join(f'{x:.2f}' for x in values)}; "
+              f"median {float(np.median(values)):.2f}; <= 0.5 in {sum(x <= 0.5 for x in values)} of {len(values)}")
     return 0
 
 

@@ -95,30 +95,32 @@ def _distinct_per_group(group_rank: np.ndarray, message_ids: np.ndarray) -> tupl
     return inverse - group_start[inverse], first, pair_group
 
 
-def framed_group_bundles(t_s: float, receivers: Sequence[int], starts: Sequence[int], ends: Sequence[int],
-                         message_ids: np.ndarray, entries: np.ndarray) -> list[tuple[int, bytes]]:
+def framed_group_bundles(t_s: float, receivers: np.ndarray, message_ids: np.ndarray,
+                         entries: np.ndarray) -> list[tuple[int, bytes]]:
     """One delivery cycle's deliveries as one ``RadioGroupBundle`` per group: [(group, bytes), ...].
 
-    The deliveries come sorted by receiver (ascending) and, within one, by delivery time: receiver
-    ``receivers[k]`` gets ``message_ids[starts[k]:ends[k]]``, whose encoded entries are the same rows of
-    ``entries``. Each group's entries are the distinct messages its members get, in message order; each member's
-    indices list its messages in its delivery order."""
-    member_group = np.asarray(receivers, dtype=np.int64) // RADIO_GROUP_SIZE
-    counts = np.asarray(ends, dtype=np.int64) - np.asarray(starts, dtype=np.int64)
-    member_bounds = np.concatenate(([0], np.flatnonzero(np.diff(member_group)) + 1, [member_group.size]))
-    member_rank = np.zeros(member_group.size, dtype=np.int64)
-    member_rank[member_bounds[1:-1]] = 1
-    local, first, pair_group = _distinct_per_group(np.repeat(np.cumsum(member_rank), counts), message_ids)
-    entry_bounds = np.searchsorted(pair_group, np.arange(member_bounds.size)).tolist()
-    delivery_bounds = np.concatenate(([0], np.cumsum(counts)))[member_bounds].tolist()
-    shared, local_list, count_list = entries[first].tolist(), local.tolist(), counts.tolist()
-    groups, bounds = member_group[member_bounds[:-1]].tolist(), member_bounds.tolist()
-    receiver_list = list(receivers)
+    Row ``i`` delivers message ``message_ids[i]`` (encoded entry ``entries[i]``) to ``receivers[i]``; rows come
+    sorted by receiver (ascending) and, within one, by delivery time. Each group's entries are the distinct messages
+    its members get, in message order; each member's indices list its messages in its delivery order."""
+    group = receivers // RADIO_GROUP_SIZE
+    member_bounds = np.flatnonzero(np.diff(receivers)) + 1
+    group_changes = np.flatnonzero(np.diff(group)) + 1
+    group_rank = np.zeros(receivers.size, dtype=np.int64)
+    group_rank[group_changes] = 1
+    local, first, pair_group = _distinct_per_group(np.cumsum(group_rank), message_ids)
+    member_starts = np.concatenate(([0], member_bounds))
+    delivery_bounds = [0, *group_changes.tolist(), receivers.size]
+    entry_bounds = np.searchsorted(pair_group, np.arange(len(delivery_bounds))).tolist()
+    members_of = np.searchsorted(member_starts, delivery_bounds).tolist()  # group k: members members_of[k]..[k+1]
+    member_list = receivers[member_starts].tolist()
+    count_list = np.diff(np.concatenate((member_starts, [receivers.size]))).tolist()
+    shared, local_list = entries[first].tolist(), local.tolist()
     head = group_head(t_s)
-    return [(group, group_bundle_bytes(head, receiver_list[bounds[k]:bounds[k + 1]], count_list[bounds[k]:bounds[k + 1]],
-                                       local_list[delivery_bounds[k]:delivery_bounds[k + 1]],
-                                       shared[entry_bounds[k]:entry_bounds[k + 1]]))
-            for k, group in enumerate(groups)]
+    return [(group_id, group_bundle_bytes(head, member_list[members_of[k]:members_of[k + 1]],
+                                          count_list[members_of[k]:members_of[k + 1]],
+                                          local_list[delivery_bounds[k]:delivery_bounds[k + 1]],
+                                          shared[entry_bounds[k]:entry_bounds[k + 1]]))
+            for k, group_id in enumerate(group[delivery_bounds[:-1]].tolist())]
 
 
 def selected_entries(bundle: RadioGroupBundle, receiver_id: int) -> list[tuple[int, bytes]]:

@@ -18,11 +18,11 @@ from dataclasses import dataclass
 import msgspec
 import numpy as np
 
-from comms.bundle_wire import encode_entry
+from comms.bundle_wire import encode_entries
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
 from comms.radio_groups import framed_group_bundles
-from comms.radio_model import GROUND_NODE_ID, RadioModel
+from comms.radio_model import GROUND_NODE_ID, RadioModel, Transmission
 from comms.signing import Verifier, unsigned_body
 
 TRUTH_RESTART_S = 5.0
@@ -205,12 +205,13 @@ class RadioRelay:
             n_ok = keep.size
             if n_ok == 0:
                 return
-        m = tx.message_index[ok]
-        due = rx_s[m] + tx.delivery_t_s[ok] / self.speed
-        sender_ids = self._ids[slots_a].tolist()
+        if n_ok < ok.size:
+            tx = Transmission(tx.sender_index[ok], tx.receiver_index[ok], ok[ok], tx.delivery_t_s[ok], tx.message_index[ok])
+        m = tx.message_index
+        due = rx_s[m] + tx.delivery_t_s / self.speed
         entries = np.empty(len(batch), dtype=object)
-        entries[:] = [encode_entry(sid, payload) for sid, payload in zip(sender_ids, payload_list)]
-        self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m],
+        entries[:] = encode_entries(self._ids[slots_a].tolist(), payload_list)
+        self._in_flight.append((due, self._ids[tx.receiver_index], self._ids[tx.sender_index], payloads[m],
                                 entries[m], self._messages_decided + m))
         self._messages_decided += len(batch)
         self._in_flight_count += n_ok
@@ -233,9 +234,11 @@ class RadioRelay:
         ready = self._take_ready(now_s, (_SENDER, _PAYLOAD))
         if ready is None:
             return {}
-        receivers, columns, starts, ends = ready
+        receivers, columns = ready
+        bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
+        starts, ends = [0, *bounds], [*bounds, receivers.size]
         senders, payloads = columns[_SENDER].tolist(), columns[_PAYLOAD].tolist()
-        return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers, starts, ends)}
+        return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers[starts].tolist(), starts, ends)}
 
     def pop_due_group_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
         """What ``pop_due`` hands over, as one encoded ``RadioGroupBundle`` stamped ``t_s`` per group of receivers
@@ -244,14 +247,12 @@ class RadioRelay:
         ready = self._take_ready(now_s, (_ENTRY, _MESSAGE))
         if ready is None:
             return []
-        receivers, columns, starts, ends = ready
-        return framed_group_bundles(t_s, receivers, starts, ends, columns[_MESSAGE], columns[_ENTRY])
+        receivers, columns = ready
+        return framed_group_bundles(t_s, receivers, columns[_MESSAGE], columns[_ENTRY])
 
-    def _take_ready(self, now_s: float, wanted: tuple[int, ...]
-                    ) -> tuple[list[int], dict[int, np.ndarray], list[int], list[int]] | None:
+    def _take_ready(self, now_s: float, wanted: tuple[int, ...]) -> tuple[np.ndarray, dict[int, np.ndarray]] | None:
         """Flush, then take the in-flight messages due by ``now_s`` out of flight, sorted by receiver then due
-        time: (receiver id of each group, the ``wanted`` in-flight columns in that order by column index, group
-        starts, group ends)."""
+        time: (the receiver id of each, the ``wanted`` in-flight columns in that order by column index)."""
         self.flush()
         if not self._in_flight:
             return None
@@ -275,11 +276,7 @@ class RadioRelay:
         due, receivers = column(_DUE), column(_RECEIVER)
         self._in_flight_count -= due.size
         order = np.lexsort((due, receivers))
-        receivers = receivers[order]
-        columns = {i: column(i)[order] for i in wanted}
-        bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
-        starts = [0, *bounds]
-        return receivers[starts].tolist(), columns, starts, [*bounds, receivers.size]
+        return receivers[order], {i: column(i)[order] for i in wanted}
 
     def next_due_s(self) -> float | None:
         """When the earliest message in flight is due (None when nothing is in flight or queued)."""

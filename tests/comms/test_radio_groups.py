@@ -47,12 +47,11 @@ def test_every_receiver_reads_back_exactly_its_deliveries(seed: int, dense_cells
     due = _deliveries(seed)
     messages = {m: (100 + m, bytes([m]) * (m % 9 + 1)) for m in range(40)}
     receivers = list(due)
-    ends = np.cumsum([len(v) for v in due.values()]).tolist()
-    starts = [0, *ends[:-1]]
+    rows = np.array([r for r, v in due.items() for _ in v], dtype=np.int64)
     message_ids = np.array([m for v in due.values() for m in v], dtype=np.int64) + 1000
     entries = np.empty(message_ids.size, dtype=object)
     entries[:] = [encode_entry(*messages[m - 1000]) for m in message_ids.tolist()]
-    bundles = framed_group_bundles(4.5, receivers, starts, ends, message_ids, entries)
+    bundles = framed_group_bundles(4.5, rows, message_ids, entries)
     assert [g for g, _ in bundles] == sorted({group_of(r) for r in receivers})
     got = {}
     for group, payload in bundles:
