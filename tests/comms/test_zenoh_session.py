@@ -341,3 +341,15 @@ def test_hot_publisher_and_declared_keys_carry_samples_and_drop_after_close(free
         hub.close()
         put(b"late")
         assert hub.dropped_after_close == 1
+
+
+def test_a_blocking_publisher_waits_for_room_instead_of_dropping(free_endpoint: Callable[[], str]) -> None:
+    """The radio emulator's inbox puts: Zenoh's BLOCK congestion control (a full link makes the put wait) where
+    every other publisher keeps Zenoh's DROP; the first call for a key sets its mode."""
+    with ZenohSession(ZenohConfig.hub(free_endpoint())) as session:
+        blocking = session.publisher_of("zs/block", block=True)
+        session.publisher_of("zs/drop")
+        session.publisher_of("zs/block")
+        modes = {key: str(publisher.congestion_control) for key, publisher in session._publishers.items()}
+        assert modes == {"zs/block": "CongestionControl.BLOCK", "zs/drop": "CongestionControl.DROP"}
+        blocking(b"nobody listens: nothing to wait for")
