@@ -107,8 +107,12 @@ class SensorEffects:
 
     gain_bgr: NDArray[np.float32]
     """(H, W, 3) multiplicative lighting: a sun gradient across the image and lens vignetting."""
-    noise_bgr: NDArray[np.int16]
-    """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise [DN], rounded."""
+    noise_up_bgr: NDArray[np.uint8]
+    """(NOISE_FRAMES, H, W, 3) the positive part of additive Gaussian sensor noise [DN], rounded ..."""
+    noise_down_bgr: NDArray[np.uint8]
+    """... and its negative part, as a magnitude: a pixel's noise is one or the other, so adding the first and
+    subtracting the second with 8-bit saturation gives the noisy pixel exactly (two 8-bit passes instead of a
+    mixed 8/16-bit one)."""
 
 
 def _smoothstep(x: NDArray[np.floating]) -> NDArray[np.floating]:
@@ -155,5 +159,6 @@ def sensor_effects(seed: int, width_px: int, height_px: int) -> SensorEffects:
     gradient = 0.14 * (math.cos(sun) * x + math.sin(sun) * y) / 0.5
     vignette = -0.25 * (x * x + y * y)
     gain = np.repeat((1.0 + gradient + vignette)[..., None], 3, axis=2).astype(np.float32)
-    noise = np.rint(rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3))).astype(np.int16)
-    return SensorEffects(gain_bgr=gain, noise_bgr=noise)
+    noise = np.rint(rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3)))
+    return SensorEffects(gain_bgr=gain, noise_up_bgr=np.clip(noise, 0, 255).astype(np.uint8),
+                         noise_down_bgr=np.clip(-noise, 0, 255).astype(np.uint8))

@@ -85,10 +85,12 @@ class HydroFlood:
         col, row = self.grid.grid_coordinates(points_en_m)
         return sample_grid(self.depth_raster_m(t_s), col, row, cv2.INTER_LINEAR, 0.0)
 
-    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float) -> NDArray[np.float32]:
+    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float,
+                               shape_hw: tuple[int, int] | None = None) -> NDArray[np.float32]:
         """``depth_m`` for an (H, W, 2) grid of points that is affine in its indices (a nadir camera's footprint):
-        one ``warpAffine`` of the depth raster instead of a per-point lookup."""
-        h, w = points_en_m.shape[:2]
+        one ``warpAffine`` of the depth raster instead of a per-point lookup. With ``shape_hw`` = (H, W) only the
+        grid's first 2x2 points need be given (they fix the affine map)."""
+        h, w = shape_hw if shape_hw is not None else points_en_m.shape[:2]
         return cv2.warpAffine(self.depth_raster_m(t_s), self._to_raster(points_en_m), (w, h),
                               flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_CONSTANT,
                               borderValue=0.0)
