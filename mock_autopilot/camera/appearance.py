@@ -28,6 +28,8 @@ SENSOR_NOISE_SIGMA = 4.0
 
 WET_BAND_UNIT_M = 0.004
 """Resolution of the packed wet-band width [m per count]."""
+WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
+"""How much fully wet soil loses of each colour channel (B, G, R)."""
 
 # BGR colours (0-255) of the ground classes.
 _GRASS = np.array([55.0, 120.0, 80.0])
@@ -52,11 +54,15 @@ STREAK_CONTRAST = 0.07
 """Brightness swing of the streaks on fast water (kept small: they are texture, not a second kind of ground)."""
 STREAK_FULL_SPEED_MPS = 0.4
 """Water this fast shows the full streak contrast; still water shows none."""
+STREAK_ZERO = 128.0
+STREAK_SCALE = 127.0
+"""The 8-bit streak tile holds ``STREAK_ZERO + STREAK_SCALE · pattern``."""
 
 
 @lru_cache(maxsize=4)
-def streak_tile(seed: int) -> NDArray[np.float32]:
-    """(TILE_PX, TILE_PX) streak pattern in [-1, 1], lines along the tile's x axis (periodic, so it tiles): the
+def streak_tile(seed: int) -> NDArray[np.uint8]:
+    """(TILE_PX, TILE_PX) streak pattern in [-1, 1], stored as ``STREAK_ZERO + STREAK_SCALE · value`` in 8 bits (a
+    quarter of the memory a frame's warp reads), lines along the tile's x axis (periodic, so it tiles): the
     renderer turns it to run along the current. Lines ``STREAK_SPACING_M`` apart that wander every
     ``STREAK_WAVE_M``, with a seeded phase."""
     rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x57EA])
@@ -66,7 +72,7 @@ def streak_tile(seed: int) -> NDArray[np.float32]:
     waves = round(tile_m / STREAK_WAVE_M)
     y, x = np.mgrid[0:n, 0:n] * (2.0 * math.pi / n)
     wander = 1.5 * np.sin(waves * x + rng.uniform(0.0, 2.0 * math.pi)) + 0.6 * fractal_noise(n, 2.0, rng)
-    return np.sin(lines * y + wander).astype(np.float32)
+    return np.rint(STREAK_ZERO + STREAK_SCALE * np.sin(lines * y + wander)).astype(np.uint8)
 
 
 def streak_strength(speed_mps: NDArray[np.float32]) -> NDArray[np.float32]:

@@ -25,16 +25,14 @@ from mock_autopilot.camera.appearance import (
     NOISE_FRAMES,
     TILE_PX,
     TILE_RESOLUTION_M,
-    WATER_TURBID_BGR,
     WET_BAND_UNIT_M,
+    WET_DARKENING_BGR,
     ground_textures,
     sensor_effects,
-    streak_strength_of_speed,
-    streak_tile,
-    water_shading,
 )
 from mock_autopilot.camera.imaging_conditions import FrameInputs, apply_imaging
 from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.camera.water_over_terrain import GAIN_FIXED_ONE, shade_by_depth, streaks, wet_shore_gain8
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
 from mission_plan.imaging import ImagingSpec
@@ -43,13 +41,9 @@ MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
 MARGIN_PX = 8
 """Extra ring of pixels evaluated around the image so the wet band near the image border sees off-image water."""
-DEPTH_LUT_STEP_M = 0.005
-"""Depth resolution of the water shading table [m] (256 steps: to 1.275 m, deeper water shades as that)."""
 _PIXEL_CENTRES = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.5], [0.0, 0.0, 1.0]])
 """Pixel index (column, row) -> continuous image coordinates of its centre."""
-_WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
-"""How much fully wet soil loses of each colour channel (B, G, R)."""
-_WET_DARKENING_SCALAR = tuple(float(k) for k in _WET_DARKENING_BGR) + (0.0,)
+_WET_DARKENING_SCALAR = tuple(float(k) for k in WET_DARKENING_BGR) + (0.0,)
 _ONE_BGR = (1.0, 1.0, 1.0, 0.0)
 _CORNER_ROWS = np.array([0, 1, MARGIN_PX, MARGIN_PX + 1])
 """Rows (and columns) of the padded pixel grid whose ground points a depth-shaded level frame needs: the grid's
@@ -250,12 +244,15 @@ def _ground_image(flood: FloodModel, t_s: float, pos: NDArray[np.float64], image
     colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
     wet_factor = None
     if water_padded.any():
-        wet_factor = _wet_shore_factor(water_padded, land, gsd, coarse=depth is not None)
+        if depth is None:
+            wet_factor = _wet_shore_factor(water_padded, land, gsd)
+        else:
+            colour = cv2.multiply(colour, wet_shore_gain8(water_padded, m, land, gsd), scale=1.0 / GAIN_FIXED_ONE)
         water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
         if depth is not None:
             flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
-            streaks = _streaks(flow, image_corner, (h, w), seed)
-            water_colour = _shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]), streaks)
+            water_colour = shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]),
+                                          streaks(flow, image_corner, (h, w), seed))
         colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
     effects = sensor_effects(seed, w, h)
@@ -265,82 +262,18 @@ def _ground_image(flood: FloodModel, t_s: float, pos: NDArray[np.float64], image
     return cv2.subtract(cv2.add(shaded, effects.noise_up_bgr[noise]), effects.noise_down_bgr[noise])
 
 
-def _wet_shore_factor(water_padded: NDArray[np.bool_], land_bgrw: NDArray[np.uint8], gsd: float, coarse: bool
+def _wet_shore_factor(water_padded: NDArray[np.bool_], land_bgrw: NDArray[np.uint8], gsd: float
                       ) -> NDArray[np.float32]:
     """(H, W, 3) gain darkening the land within the seeded wet band of the water (wet soil is darker, and keeps
-    more red than blue); 1 on the water and beyond the band. The distance to the water is a distance transform of
-    the padded mask; ``coarse`` takes it at half resolution (every other pixel, then interpolated): a quarter of the
-    cost, at the price of a shore band drawn to about a pixel. The depth-shaded floods use it (their shore comes
-    from a 2 m raster, and their frames were free to change); the others keep the full-resolution band, so their
-    frames are those of every earlier run."""
+    more red than blue); 1 on the water and beyond the band."""
     m, h, w = MARGIN_PX, land_bgrw.shape[0], land_bgrw.shape[1]
     dry_padded = (~water_padded).view(np.uint8)
-    dry = dry_padded[m : m + h, m : m + w]
-    if coarse:
-        half = cv2.distanceTransform(np.ascontiguousarray(dry_padded[::2, ::2]), cv2.DIST_L2, 3)
-        distance_px = cv2.warpAffine(half, np.array([[0.5, 0.0, m / 2.0], [0.0, 0.5, m / 2.0]]), (w, h),
-                                     flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_REPLICATE)
-        scale = 2.0 * gsd / WET_BAND_UNIT_M
-    else:
-        distance_px = cv2.distanceTransform(dry_padded, cv2.DIST_L2, 3)[m : m + h, m : m + w]
-        scale = gsd / WET_BAND_UNIT_M
+    distance_px = cv2.distanceTransform(dry_padded, cv2.DIST_L2, 3)[m : m + h, m : m + w]
     band = cv2.extractChannel(land_bgrw, 3)
-    wetness = cv2.subtract(1.0, cv2.divide(distance_px, band, scale=scale, dtype=cv2.CV_32F))
-    wetness = cv2.multiply(wetness, dry, dtype=cv2.CV_32F)  # 0 on the water
+    wetness = cv2.subtract(1.0, cv2.divide(distance_px, band, scale=gsd / WET_BAND_UNIT_M, dtype=cv2.CV_32F))
+    wetness = cv2.multiply(wetness, dry_padded[m : m + h, m : m + w], dtype=cv2.CV_32F)  # 0 on the water
     cv2.max(wetness, 0.0, dst=wetness)
     return cv2.subtract(_ONE_BGR, cv2.multiply(cv2.merge([wetness, wetness, wetness]), _WET_DARKENING_SCALAR))
-
-
-def _streaks(flow_mps: tuple[float, float], corner_en_m: NDArray[np.float64], shape: tuple[int, int], seed: int
-             ) -> NDArray[np.float32] | None:
-    """Per-pixel brightness gain of flow streaks over an image of ``shape`` (rows, columns) whose first two rows and
-    columns of pixel centres lie at ``corner_en_m`` (2, 2, 2): the world-anchored streak tile turned to run along
-    the current below the drone, with the contrast of its speed (one warp of a cached tile; a frame spans a few
-    metres, over which the current hardly turns). None on still water (no streaks)."""
-    speed = math.hypot(*flow_mps)
-    strength = streak_strength_of_speed(speed)
-    if strength <= 0.0:
-        return None
-    c, s = flow_mps[0] / speed, flow_mps[1] / speed
-    origin = corner_en_m[0, 0]
-    d_col = corner_en_m[0, 1] - origin
-    d_row = corner_en_m[1, 0] - origin
-    k = 1.0 / TILE_RESOLUTION_M
-    tile_m = TILE_PX * TILE_RESOLUTION_M
-    along0, across0 = (origin[0] * c + origin[1] * s) % tile_m, (-origin[0] * s + origin[1] * c) % tile_m
-    to_tile = np.array([
-        [k * (d_col[0] * c + d_col[1] * s), k * (d_row[0] * c + d_row[1] * s), k * along0],
-        [k * (-d_col[0] * s + d_col[1] * c), k * (-d_row[0] * s + d_row[1] * c), k * across0],
-    ])
-    pattern = cv2.warpAffine(streak_tile(seed), to_tile, (shape[1], shape[0]),
-                             flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_WRAP)
-    return cv2.addWeighted(pattern, strength, pattern, 0.0, 1.0)
-
-
-@lru_cache(maxsize=1)
-def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture (one value for all three channels) and
-    the turbid colour added (BGR), so shading a frame is two table lookups: ``water · gain + offset``."""
-    depth = np.arange(256, dtype=np.float32) * DEPTH_LUT_STEP_M
-    turbid, brightness = water_shading(depth)
-    gain = (brightness * (1.0 - turbid)).astype(np.float32)
-    offset = turbid[:, None] * WATER_TURBID_BGR[None, :]
-    return gain.reshape(1, 256), offset.reshape(1, 256, 3).astype(np.float32)
-
-
-def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32],
-                    streaks: NDArray[np.float32] | None) -> NDArray[np.uint8]:
-    """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
-    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated), with flow streaks
-    (``appearance.streak_gain``) on the clear part. The gain is the same on every channel, so it is looked up and
-    multiplied once and then spread over the three."""
-    gain, offset = _depth_luts()
-    step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
-    clear_gain = cv2.LUT(step, gain)
-    if streaks is not None:
-        clear_gain = cv2.multiply(clear_gain, streaks)
-    shaded = cv2.multiply(water_bgr, cv2.merge([clear_gain, clear_gain, clear_gain]), dtype=cv2.CV_32F)
-    return cv2.add(shaded, cv2.LUT(cv2.merge([step, step, step]), offset), dtype=cv2.CV_8U)
 
 
 def _texture_transform(
