@@ -46,21 +46,23 @@ def wet_shore_gain8(water_padded: NDArray[np.bool_], margin_px: int, land_bgrw: 
     per band width). Meant for the land only: the water is drawn over it. The other floods keep the
     full-resolution band in floating point, so their frames stay those of earlier runs."""
     m, h, w = margin_px, land_bgrw.shape[0], land_bgrw.shape[1]
-    half = cv2.distanceTransform(np.ascontiguousarray((~water_padded)[::2, ::2]).view(np.uint8), cv2.DIST_L2, 3)
-    distance_half_px = cv2.warpAffine(half, np.array([[0.5, 0.0, m / 2.0], [0.0, 0.5, m / 2.0]]), (w, h),
-                                      flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_REPLICATE)
-    fraction = cv2.divide(distance_half_px, cv2.extractChannel(land_bgrw, 3),
+    padded_h, padded_w = water_padded.shape
+    dry_half = cv2.resize((~water_padded).view(np.uint8), (padded_w // 2, padded_h // 2), interpolation=cv2.INTER_AREA)
+    half = cv2.distanceTransform(dry_half, cv2.DIST_L2, 3)
+    full = cv2.resize(half, (padded_w, padded_h), interpolation=cv2.INTER_LINEAR)[m : m + h, m : m + w]
+    fraction = cv2.divide(full, cv2.extractChannel(land_bgrw, 3),
                           scale=WET_FRACTION_STEPS * 2.0 * gsd / WET_BAND_UNIT_M, dtype=cv2.CV_8U)
-    return cv2.LUT(cv2.merge([fraction, fraction, fraction]), _wet_gain_table())
+    return cv2.merge([cv2.LUT(fraction, table) for table in _wet_gain_tables()])
 
 
 @lru_cache(maxsize=1)
-def _wet_gain_table() -> NDArray[np.uint8]:
-    """(1, 256, 3) wet-band gain per band fraction step (distance / band width · ``WET_FRACTION_STEPS``), in units of
-    ``1/GAIN_FIXED_ONE``: fully wet at the shore, dry from one band width on."""
+def _wet_gain_tables() -> tuple[NDArray[np.uint8], ...]:
+    """Per channel (B, G, R), the (1, 256) wet-band gain per band fraction step (distance / band width ·
+    ``WET_FRACTION_STEPS``), in units of ``1/GAIN_FIXED_ONE``: fully wet at the shore, dry from one band width on.
+    (Three one-channel tables: OpenCV looks a one-channel table up a few times faster than a three-channel one.)"""
     wetness = np.maximum(0.0, 1.0 - np.arange(256) / WET_FRACTION_STEPS)
-    gain = 1.0 - wetness[:, None] * WET_DARKENING_BGR[None, :].astype(np.float64)
-    return np.rint(gain * GAIN_FIXED_ONE).astype(np.uint8).reshape(1, 256, 3)
+    return tuple(np.rint((1.0 - wetness * float(k)) * GAIN_FIXED_ONE).astype(np.uint8).reshape(1, 256)
+                 for k in WET_DARKENING_BGR)
 
 
 def streaks(flow_mps: tuple[float, float], corner_en_m: NDArray[np.float64], shape: tuple[int, int], seed: int
@@ -91,28 +93,29 @@ def streaks(flow_mps: tuple[float, float], corner_en_m: NDArray[np.float64], sha
 
 
 @lru_cache(maxsize=1)
-def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.uint8]]:
-    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture (one value for all three channels) and
-    the turbid colour added (BGR, 8-bit), so shading a frame is two table lookups: ``water · gain + offset``."""
+def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.uint8], tuple[NDArray[np.uint8], ...]]:
+    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture (one value for all three channels; as
+    a float and in units of ``1/GAIN_FIXED_ONE``) and, per channel (B, G, R), the turbid colour added, so shading a
+    frame is table lookups: ``water · gain + offset``."""
     depth = np.arange(256, dtype=np.float32) * DEPTH_LUT_STEP_M
     turbid, brightness = water_shading(depth)
-    gain = (brightness * (1.0 - turbid)).astype(np.float32)
-    offset = np.rint(turbid[:, None] * WATER_TURBID_BGR[None, :])
-    return gain.reshape(1, 256), offset.reshape(1, 256, 3).astype(np.uint8)
+    gain = (brightness * (1.0 - turbid)).astype(np.float32).reshape(1, 256)
+    offsets = tuple(np.rint(turbid * float(c)).astype(np.uint8).reshape(1, 256) for c in WATER_TURBID_BGR)
+    return gain, np.rint(gain * GAIN_FIXED_ONE).astype(np.uint8), offsets
 
 
 def shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32],
-                    streaks: NDArray[np.float32] | None) -> NDArray[np.uint8]:
+                   streaks: NDArray[np.float32] | None) -> NDArray[np.uint8]:
     """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
     texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated), with flow streaks
-    (:func:`streaks`) on the clear part. The gain is the same on every channel, so it is looked up and multiplied on
-    one channel; it is then applied in 8-bit fixed point (``1/GAIN_FIXED_ONE`` steps, finer than a grey level
-    over the water's colours), as is the turbid colour, so the three-channel passes are integer ones."""
-    gain, offset = _depth_luts()
+    (:func:`streaks`) on the clear part. The gain is the same on every channel, so it is looked up (and multiplied
+    by the streaks) on one channel, then applied in 8-bit fixed point (``1/GAIN_FIXED_ONE`` steps, finer than a grey
+    level over the water's colours), as is the turbid colour: the three-channel passes are integer ones."""
+    gain, gain8_table, offsets = _depth_luts()
     step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
-    clear_gain = cv2.LUT(step, gain)
-    if streaks is not None:
-        clear_gain = cv2.multiply(clear_gain, streaks)
-    gain8 = cv2.convertScaleAbs(clear_gain, alpha=GAIN_FIXED_ONE)
+    if streaks is None:
+        gain8 = cv2.LUT(step, gain8_table)
+    else:
+        gain8 = cv2.convertScaleAbs(cv2.multiply(cv2.LUT(step, gain), streaks), alpha=GAIN_FIXED_ONE)
     shaded = cv2.multiply(water_bgr, cv2.merge([gain8, gain8, gain8]), scale=1.0 / GAIN_FIXED_ONE)
-    return cv2.add(shaded, cv2.LUT(cv2.merge([step, step, step]), offset))
+    return cv2.add(shaded, cv2.merge([cv2.LUT(step, table) for table in offsets]))
