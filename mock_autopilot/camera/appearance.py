@@ -105,6 +105,9 @@ class GroundTextures:
     of the wet shoreline band at each place in units of ``WET_BAND_UNIT_M`` (packed so one lookup fetches both)."""
     water_bgr: NDArray[np.uint8]
     """(TILE_PX, TILE_PX, 3) water: murky colour, sky reflections and ripples."""
+    land_and_water: NDArray[np.uint16]
+    """(TILE_PX, TILE_PX, 4) both tiles interleaved, 8 bytes per texel (land B, G, R, band width, water B, G, R, 0)
+    seen as four 16-bit channels: one warp fetches a texel of each from one cache line (see ``render``)."""
 
 
 @dataclass(frozen=True)
@@ -148,10 +151,11 @@ def ground_textures(seed: int) -> GroundTextures:
     water *= (1.0 + 0.04 * ripples + 0.04 * detail)[..., None]
 
     wet_band = 0.25 + 0.35 * _smoothstep((fractal_noise(n, 1.7, rng) + 1.5) / 3.0)
-    return GroundTextures(
-        land_bgrw=np.clip(np.dstack([land, wet_band / WET_BAND_UNIT_M]), 0, 255).astype(np.uint8),
-        water_bgr=np.clip(water, 0, 255).astype(np.uint8),
-    )
+    land_bgrw = np.clip(np.dstack([land, wet_band / WET_BAND_UNIT_M]), 0, 255).astype(np.uint8)
+    water_bgr = np.clip(water, 0, 255).astype(np.uint8)
+    texels = np.dstack([land_bgrw, water_bgr, np.zeros((n, n, 1), np.uint8)])
+    return GroundTextures(land_bgrw=land_bgrw, water_bgr=water_bgr,
+                          land_and_water=np.ascontiguousarray(texels).view(np.uint16))
 
 
 @lru_cache(maxsize=16)

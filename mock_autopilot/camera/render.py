@@ -240,15 +240,19 @@ def _ground_image(flood: FloodModel, t_s: float, pos: NDArray[np.float64], image
     m, h, w = MARGIN_PX, camera.height_px, camera.width_px
     water = water_padded[m : m + h, m : m + w]
     textures = ground_textures(seed)
-    land = _sample_tile(textures.land_bgrw, to_tile, w, h)
+    any_water = bool(water_padded.any())
+    if any_water:
+        land, water_bgra = _sample_land_and_water(textures.land_and_water, to_tile, w, h)
+    else:
+        land = _sample_tile(textures.land_bgrw, to_tile, w, h)
     colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
     wet_factor = None
-    if water_padded.any():
+    if any_water:
         if depth is None:
             wet_factor = _wet_shore_factor(water_padded, land, gsd)
         else:
             colour = cv2.multiply(colour, wet_shore_gain8(water_padded, m, land, gsd), scale=1.0 / GAIN_FIXED_ONE)
-        water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
+        water_colour = cv2.cvtColor(water_bgra, cv2.COLOR_BGRA2BGR)
         if depth is not None:
             flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
             water_colour = shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]),
@@ -316,6 +320,16 @@ def _sample_tile(tile: NDArray[np.uint8], to_tile: NDArray[np.float64], width_px
     warp = cv2.warpAffine if to_tile.shape[0] == 2 else cv2.warpPerspective
     return warp(tile, to_tile, (width_px, height_px), flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
                 borderMode=cv2.BORDER_WRAP)
+
+
+def _sample_land_and_water(texels: NDArray[np.uint16], to_tile: NDArray[np.float64], width_px: int,
+                           height_px: int) -> tuple[NDArray[np.uint8], NDArray[np.uint8]]:
+    """(land B, G, R, band; water B, G, R, 0) images, both (H, W, 4) uint8, seen through ``to_tile``: one
+    nearest-neighbour warp of the interleaved tiles (``appearance.GroundTextures.land_and_water``; the same texels
+    as two warps would pick), then the 8-byte texels split into their two 4-byte halves."""
+    both = _sample_tile(texels, to_tile, width_px, height_px)  # type: ignore[arg-type]
+    land, water = cv2.split(both.view(np.int32))
+    return land.view(np.uint8).reshape(height_px, width_px, 4), water.view(np.uint8).reshape(height_px, width_px, 4)
 
 
 def _noise_index(t_s: float, position_enu_m: NDArray[np.float64], seed: int) -> int:
