@@ -168,7 +168,7 @@ def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64
     2x2), turned towards the land centroid; the centroid line itself when there are too few points."""
     normal = water_to_land
     if edge_en.shape[0] >= 2:
-        d = edge_en - edge_en.mean(axis=0)
+        d = edge_en - np.add.reduce(edge_en, axis=0) / edge_en.shape[0]  # the mean, without np.mean's wrapper
         sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
         axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
         pca_normal = np.array([-math.sin(axis), math.cos(axis)])
