@@ -47,8 +47,9 @@ def wet_shore_gain8(water_padded: NDArray[np.bool_], margin_px: int, land_bgrw: 
     full-resolution band in floating point, so their frames stay those of earlier runs."""
     m, h, w = margin_px, land_bgrw.shape[0], land_bgrw.shape[1]
     padded_h, padded_w = water_padded.shape
-    dry_half = cv2.resize((~water_padded).view(np.uint8), (padded_w // 2, padded_h // 2), interpolation=cv2.INTER_AREA)
-    half = cv2.distanceTransform(dry_half, cv2.DIST_L2, 3)
+    w2 = water_padded
+    water_half = (w2[0::2, 0::2] | w2[1::2, 0::2]) | (w2[0::2, 1::2] | w2[1::2, 1::2])  # a 2x2 block with water
+    half = cv2.distanceTransform((~water_half).view(np.uint8), cv2.DIST_L2, 3)
     full = cv2.resize(half, (padded_w, padded_h), interpolation=cv2.INTER_LINEAR)[m : m + h, m : m + w]
     fraction = cv2.divide(full, cv2.extractChannel(land_bgrw, 3),
                           scale=WET_FRACTION_STEPS * 2.0 * gsd / WET_BAND_UNIT_M, dtype=cv2.CV_8U)
