@@ -2,8 +2,10 @@
 
 A test asks for ports here instead of writing numbers down, so two test runs (or two tests) never pick the same
 port on purpose. Vehicles of a fleet use consecutive ports (PX4 SITL's 14540+i), so ports come in blocks: a
-random block in 30000-39999, drawn per process, kept only if every port of it binds now (UDP and TCP: a mission's
-block also holds its Zenoh hub).
+random block in 20000-32699, drawn per process, kept only if every port of it binds now (UDP and TCP: a mission's
+block also holds its Zenoh hub). The range stays below Linux's ephemeral ports (32768-60999 by default), so a socket
+the kernel numbers itself (a Zenoh client's connection, a MAVSDK or pymavlink socket bound to port 0) can never take a
+port of a block between the check and the mission's own bind.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from collections.abc import Callable
 
 import pytest
 
-PORT_RANGE = (30000, 39999)
+PORT_RANGE = (20000, 32699)
 _rng = random.Random(os.getpid())
 _handed_out: set[int] = set()
 

@@ -264,12 +264,14 @@ def test_ctrl_c_stops_everything_and_keeps_the_record(tmp_path: Path, mission_cl
                         "--base-port", str(base), "--gcs-port", str(base + 50), "--no-live"],
                        f"tcp/127.0.0.1:{base + 60}")
     deadline = time.monotonic() + 120.0
-    while time.monotonic() < deadline and "flood clock starts" not in _read(out / "events.log"):
+    while (time.monotonic() < deadline and proc.poll() is None
+           and "flood clock starts" not in _read(out / "events.log")):
         time.sleep(0.2)
+    assert proc.poll() is None, f"the mission ended before Ctrl-C: {_read(out / 'events.log')[-3000:]}"
     time.sleep(3.0)
     proc.send_signal(signal.SIGINT)
-    _, stderr = proc.communicate(timeout=60)
-    assert proc.returncode == 130, stderr
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, f"{stderr}\n{stdout[-2000:]}\n{_read(out / 'events.log')[-3000:]}"
     assert_no_orphans(out)
     assert "interrupted" in _read(out / "events.log")
     record = np.load(out / "record.npz")
