@@ -3,8 +3,8 @@
 300 drones on the 10 m grid of ``bench/comms_radio.py`` (range 25 m, ~17.5 neighbours each), states with 8 edge
 points, queued 30 per batch (one 5 ms delivery cycle at 20 Hz), a new truth (every drone moved) after each drone's
 state, as the simulator's 20 Hz truth, each batch decided and handed out as the emulator does in one delivery
-cycle: one encoded ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the codec in a checkout
-without it). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
+cycle: one encoded ``RadioGroupBundle`` per group of receivers (``pop_due_group_bundles``), or in an older
+checkout one ``RadioBundle`` per receiver (``pop_due_bundles``, or ``pop_due`` and the codec). ``--tree PATH`` measures another checkout's relay (e.g. ``git archive main |
 tar -x -C /tmp/before``), so before and after run on the same load. Run:
 
     .venv/bin/python bench/radio_relay.py
@@ -37,6 +37,8 @@ def measure(drones: int, messages: int, batch: int) -> tuple[float, float, int]:
                                       position_en_m=(1.0, 2.0), altitude_m=10.0, edge_points_en_m=[(1.0, 2.0)] * 8))
                 for i in range(messages)]
     def bundles(now_s: float) -> list[tuple[int, bytes]]:
+        if hasattr(relay, "pop_due_group_bundles"):
+            return relay.pop_due_group_bundles(now_s, now_s)
         if hasattr(relay, "pop_due_bundles"):
             return relay.pop_due_bundles(now_s, now_s)
         return [(r, encode(RadioBundle(t_s=now_s, entries=e))) for r, e in relay.pop_due(now_s).items()]

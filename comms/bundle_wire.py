@@ -29,6 +29,11 @@ def encode_entry(sender_id: int, payload: bytes) -> bytes:
     return _entry_encoder.encode((sender_id, payload))
 
 
+def encode_entries(sender_ids: Sequence[int], payloads: Sequence[bytes]) -> list[bytes]:
+    """``encode_entry`` of each pair, in one loop (a batch of states decided at once)."""
+    return list(map(_entry_encoder.encode, zip(sender_ids, payloads)))
+
+
 _FIXARRAY_HEADERS = [bytes((0x90 | count,)) for count in range(16)]
 
 
@@ -54,10 +59,3 @@ def bundle_bytes(head: bytes, entries: Sequence[bytes]) -> bytes:
     """A whole ``RadioBundle`` from ``bundle_head(t_s)`` and entries from ``encode_entry``."""
     return b"".join((head, array_header(len(entries)), *entries))
 
-
-def framed_bundles(t_s: float, entries: Sequence[bytes], starts: Sequence[int], ends: Sequence[int]) -> list[bytes]:
-    """The ``RadioBundle`` at ``t_s`` of each slice ``entries[start:end]``: one delivery cycle's bundles, framed in
-    one loop (the head encoded once, no call per bundle beyond the join)."""
-    head, fixarray = bundle_head(t_s), _FIXARRAY_HEADERS
-    return [b"".join((head, fixarray[b - a] if b - a < 16 else array_header(b - a), *entries[a:b]))
-            for a, b in zip(starts, ends)]

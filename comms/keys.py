@@ -16,8 +16,9 @@ Internal (simulation and mission plumbing):
 
 * ``floodwatch/<mission>/sim/truth`` — ``GroundTruth`` from the simulator (feeds the radio emulator and metrics);
 * ``floodwatch/<mission>/sim/uav/<id>/camera`` — ``CameraFrame`` for one vehicle's agent;
-* ``floodwatch/<mission>/radio/<id>/inbox`` — what the radio emulator delivers to vehicle ``<id>``: a
-  ``RadioBundle`` of neighbour states (only those in range, after loss and delay);
+* ``floodwatch/<mission>/radio/group/<g>`` — what the radio emulator delivers to the receivers of group ``<g>``
+  (``comms.radio_groups``): a ``RadioGroupBundle`` of neighbour states and, per receiver, which of them are its own
+  (only those in range, after loss and delay);
 * ``floodwatch/<mission>/radio/stats`` — ``RadioLinkStats`` (per-link counters);
 * ``floodwatch/<mission>/uav/<id>/edge`` — ``BoundaryEdgePoints`` seen by a boundary drone;
 * ``floodwatch/<mission>/gcs/command`` — ``MissionCommand`` (state-carrying, so newest-wins is right);
@@ -106,6 +107,10 @@ class MissionKeys:
 
     def inbox(self, vehicle_id: int) -> str:
         return f"{self.prefix}/radio/{int(vehicle_id)}/inbox"
+
+    def radio_group(self, group: int) -> str:
+        """What the radio emulator delivers to one group of receivers (``comms.radio_groups``)."""
+        return f"{self.prefix}/radio/group/{int(group)}"
 
     @property
     def radio_stats(self) -> str:

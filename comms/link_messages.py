@@ -36,6 +36,21 @@ class RadioBundle(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
     entries: list[tuple[int, bytes]]
 
 
+class RadioGroupBundle(msgspec.Struct, frozen=True, tag_field="schema", tag="fw/radiogroup/1"):
+    """What the radio emulator hands a group of receivers in one delivery tick (:mod:`comms.radio_groups`).
+
+    ``entries``: (sender_id, NeighbourState payload) pairs, each message once, the senders' own bytes. Receiver
+    ``receivers[k]`` gets ``counts[k]`` of them: its run of ``indices`` (into ``entries``, in its delivery order),
+    the runs one after another in the order of ``receivers``. A receiver keeps only its own run.
+    """
+
+    t_s: float
+    receivers: list[int]
+    counts: list[int]
+    indices: list[int]
+    entries: list[tuple[int, bytes]]
+
+
 class PeerEvent(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/peer/1"):
     """A vehicle or agent joining or leaving, as the observer saw it (liveliness token or staleness)."""
 

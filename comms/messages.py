@@ -33,7 +33,7 @@ import numpy as np
 from comms.flood_polygon import FloodPolygon, FloodPolygonProperties, GeoJsonPolygon  # noqa: F401 (named here too)
 from comms.flood_polygon import flood_polygon_from_enu  # noqa: F401 (named here too)
 from comms.gcs_status import FloodEdgeTruth, MissionEvent, OperatorRequest, VehicleStatusReport
-from comms.link_messages import PeerEvent, RadioBundle, RadioLinkStats, SecurityEvent
+from comms.link_messages import PeerEvent, RadioBundle, RadioGroupBundle, RadioLinkStats, SecurityEvent
 from comms.message_checks import InvalidMessage, Point2, Point3, finite, finite_points
 from comms.pace_messages import CameraStats, PaceAck, PaceReport, ParticipantPace, SimClockTick  # noqa: F401
 from mission_plan.roles import Role
@@ -244,11 +244,12 @@ class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     params: dict[str, float] = {}
 
 
-Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, PeerEvent,
+Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle,
+                RadioGroupBundle, PeerEvent,
                 SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport,
                 MissionEvent, OperatorRequest, FloodEdgeTruth]
 M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand,
-            RadioLinkStats, RadioBundle, PeerEvent, SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats,
+            RadioLinkStats, RadioBundle, RadioGroupBundle, PeerEvent, SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats,
             FloodPolygon, VehicleStatusReport, MissionEvent, OperatorRequest, FloodEdgeTruth)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
@@ -261,6 +262,7 @@ MAX_PAYLOAD_BYTES: dict[type, int] = {
     MissionCommand: 16 * 1024,
     RadioLinkStats: 16 * 1024 * 1024,
     RadioBundle: 16 * 1024 * 1024,
+    RadioGroupBundle: 16 * 1024 * 1024,
     PeerEvent: 4 * 1024,
     SecurityEvent: 4 * 1024,
     SimClockTick: 1024,

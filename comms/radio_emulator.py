@@ -8,8 +8,8 @@ agents subscribe to each other's public state keys, see ``comms.swarm_link``).
 
 Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioModel.send_many`` (one batch
 per tick) on the latest ``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> held in flight (latency/jitter) -> one
-``RadioBundle`` per receiver per tick on ``floodwatch/<m>/radio/<rid>/inbox``, framed from entries encoded once
-per message (:mod:`comms.bundle_wire`).
+``RadioGroupBundle`` per group of receivers per tick on ``floodwatch/<m>/radio/group/<g>``, each receiver's
+selection inside it (:mod:`comms.radio_groups`), framed from entries encoded once per message.
 
 ``comms.radio_relay.RadioRelay`` is the logic without Zenoh or clocks (time is passed in); ``RadioEmulator`` is the
 thin shell that runs it on a thread against a ``ZenohSession``. The states wait in Zenoh's own ring
@@ -85,7 +85,7 @@ class RadioEmulator:
         self._truth = self.session.subscribe(self.keys.truth)
         self._truth_key = self.keys.truth
         self._vehicle_of_key: dict[str, int | None] = {}
-        self._inboxes: dict[int, Callable[[bytes], None]] = {}  # receiver id -> put on its inbox key
+        self._inboxes: dict[int, Callable[[bytes], None]] = {}  # receiver group -> put on its key
         self.session.declare_alive(self.keys.alive("radio"))
         self.error: BaseException | None = None
 
@@ -149,11 +149,11 @@ class RadioEmulator:
 
     def _deliver(self, now_s: float, t_s: float) -> None:
         inboxes = self._inboxes
-        bundles = self.relay.pop_due_bundles(now_s, t_s)
-        for receiver, bundle in bundles:
-            put = inboxes.get(receiver)
+        bundles = self.relay.pop_due_group_bundles(now_s, t_s)
+        for group, bundle in bundles:
+            put = inboxes.get(group)
             if put is None:
-                put = inboxes[receiver] = self.session.publisher_of(self.keys.inbox(receiver))
+                put = inboxes[group] = self.session.publisher_of(self.keys.radio_group(group), block=True)
             put(bundle)
         self.bundles_out += len(bundles)
 

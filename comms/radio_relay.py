@@ -18,17 +18,18 @@ from dataclasses import dataclass
 import msgspec
 import numpy as np
 
-from comms.bundle_wire import encode_entry, framed_bundles
+from comms.bundle_wire import encode_entries
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
-from comms.radio_model import GROUND_NODE_ID, RadioModel
+from comms.radio_groups import framed_group_bundles
+from comms.radio_model import GROUND_NODE_ID, RadioModel, Transmission
 from comms.signing import Verifier, unsigned_body
 
 TRUTH_RESTART_S = 5.0
 AGENT_RESTART_S = 1.0  # a lower seq with a source time this much newer is a restarted agent, not a stale message
 _MAX_STATE_BYTES = MAX_PAYLOAD_BYTES[NeighbourState]
 _STATE_KIND = NeighbourState.__name__
-_DUE, _RECEIVER, _SENDER, _PAYLOAD, _ENTRY = range(5)  # the in-flight columns
+_DUE, _RECEIVER, _SENDER, _PAYLOAD, _ENTRY, _MESSAGE = range(6)  # the in-flight columns
 
 
 class StateHeader(msgspec.Struct, frozen=True, tag_field="schema", tag="fw/state/1"):
@@ -79,7 +80,8 @@ class RadioRelay:
         self._budget_limited = self.budgets.limited
         self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
         self.verifier = verifier
-        self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, encoded bundle entry
+        self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, bundle entry, message
+        self._messages_decided = 0  # numbers the messages, so a group's bundle carries each one once
         self._in_flight_count = 0
         self._positions: np.ndarray | None = None
         self._alive_count = 0
@@ -203,13 +205,15 @@ class RadioRelay:
             n_ok = keep.size
             if n_ok == 0:
                 return
-        m = tx.message_index[ok]
-        due = rx_s[m] + tx.delivery_t_s[ok] / self.speed
-        sender_ids = self._ids[slots_a].tolist()
+        if n_ok < ok.size:
+            tx = Transmission(tx.sender_index[ok], tx.receiver_index[ok], ok[ok], tx.delivery_t_s[ok], tx.message_index[ok])
+        m = tx.message_index
+        due = rx_s[m] + tx.delivery_t_s / self.speed
         entries = np.empty(len(batch), dtype=object)
-        entries[:] = [encode_entry(sid, payload) for sid, payload in zip(sender_ids, payload_list)]
-        self._in_flight.append((due, self._ids[tx.receiver_index[ok]], self._ids[tx.sender_index[ok]], payloads[m],
-                                entries[m]))
+        entries[:] = encode_entries(self._ids[slots_a].tolist(), payload_list)
+        self._in_flight.append((due, self._ids[tx.receiver_index], self._ids[tx.sender_index], payloads[m],
+                                entries[m], self._messages_decided + m))
+        self._messages_decided += len(batch)
         self._in_flight_count += n_ok
 
     def _count_links(self, sender_index: np.ndarray, receiver_index: np.ndarray, delivered: np.ndarray) -> None:
@@ -230,24 +234,25 @@ class RadioRelay:
         ready = self._take_ready(now_s, (_SENDER, _PAYLOAD))
         if ready is None:
             return {}
-        receivers, columns, starts, ends = ready
+        receivers, columns = ready
+        bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
+        starts, ends = [0, *bounds], [*bounds, receivers.size]
         senders, payloads = columns[_SENDER].tolist(), columns[_PAYLOAD].tolist()
-        return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers, starts, ends)}
+        return {r: list(zip(senders[a:b], payloads[a:b])) for r, a, b in zip(receivers[starts].tolist(), starts, ends)}
 
-    def pop_due_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
-        """What ``pop_due`` hands over, as each receiver's encoded ``RadioBundle`` stamped ``t_s``: the entries
-        were encoded once per message in ``flush`` and are only framed here (:mod:`comms.bundle_wire`)."""
-        ready = self._take_ready(now_s, (_ENTRY,))
+    def pop_due_group_bundles(self, now_s: float, t_s: float) -> list[tuple[int, bytes]]:
+        """What ``pop_due`` hands over, as one encoded ``RadioGroupBundle`` stamped ``t_s`` per group of receivers
+        (:mod:`comms.radio_groups`): [(group, bytes), ...]. The entries were encoded once per message in ``flush``
+        and are only framed here."""
+        ready = self._take_ready(now_s, (_ENTRY, _MESSAGE))
         if ready is None:
             return []
-        receivers, columns, starts, ends = ready
-        return list(zip(receivers, framed_bundles(t_s, columns[_ENTRY].tolist(), starts, ends)))
+        receivers, columns = ready
+        return framed_group_bundles(t_s, receivers, columns[_MESSAGE], columns[_ENTRY])
 
-    def _take_ready(self, now_s: float, wanted: tuple[int, ...]
-                    ) -> tuple[list[int], dict[int, np.ndarray], list[int], list[int]] | None:
+    def _take_ready(self, now_s: float, wanted: tuple[int, ...]) -> tuple[np.ndarray, dict[int, np.ndarray]] | None:
         """Flush, then take the in-flight messages due by ``now_s`` out of flight, sorted by receiver then due
-        time: (receiver id of each group, the ``wanted`` in-flight columns in that order by column index, group
-        starts, group ends)."""
+        time: (the receiver id of each, the ``wanted`` in-flight columns in that order by column index)."""
         self.flush()
         if not self._in_flight:
             return None
@@ -271,11 +276,7 @@ class RadioRelay:
         due, receivers = column(_DUE), column(_RECEIVER)
         self._in_flight_count -= due.size
         order = np.lexsort((due, receivers))
-        receivers = receivers[order]
-        columns = {i: column(i)[order] for i in wanted}
-        bounds = (np.flatnonzero(np.diff(receivers)) + 1).tolist()
-        starts = [0, *bounds]
-        return receivers[starts].tolist(), columns, starts, [*bounds, receivers.size]
+        return receivers[order], {i: column(i)[order] for i in wanted}
 
     def next_due_s(self) -> float | None:
         """When the earliest message in flight is due (None when nothing is in flight or queued)."""

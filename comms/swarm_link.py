@@ -37,20 +37,23 @@ from comms.messages import (
     NeighbourStateForControl,
     PeerEvent,
     RadioBundle,
+    RadioGroupBundle,
     decode,
     decode_stats,
     encode,
 )
 from comms.neighbour_table import NeighbourEvent, NeighbourTable
+from comms.radio_groups import group_inbox_key, selected_entries
 from comms.signing import MissionKey, Rejection, Signer, Verifier
 from comms.zenoh_session import ZenohSession
 
-_bundle_decoder = msgspec.msgpack.Decoder(RadioBundle)
+_bundle_decoder = msgspec.msgpack.Decoder(RadioBundle | RadioGroupBundle)
 _PEER_EVENT = {"joined": "alive", "alive": "alive", "rejoined": "rejoined", "stale": "stale", "dead": "dead", "left": "dead"}
 
 
-def bundle_unpacker(keys: MissionKeys, max_bytes: int = 16 * 1024 * 1024):
-    """The inbox callback's splitter: a ``RadioBundle`` -> [(public state key of sender, state payload), ...].
+def bundle_unpacker(keys: MissionKeys, receiver_id: int | None = None, max_bytes: int = 16 * 1024 * 1024):
+    """The inbox callback's splitter: a ``RadioBundle``, or ``receiver_id``'s selection of a ``RadioGroupBundle``
+    (:mod:`comms.radio_groups`) -> [(public state key of sender, state payload), ...].
 
     Runs on a Zenoh thread: only msgpack framing is parsed here; the states are decoded later by the consumer.
     Raises on a bad bundle (the session counts it in ``callback_errors`` and drops it).
@@ -60,6 +63,10 @@ def bundle_unpacker(keys: MissionKeys, max_bytes: int = 16 * 1024 * 1024):
         if len(payload) > max_bytes:
             raise ValueError("oversized radio bundle")
         bundle = _bundle_decoder.decode(payload)
+        if isinstance(bundle, RadioGroupBundle):
+            if receiver_id is None:
+                raise ValueError("a radio group bundle needs the receiver's id")
+            return [(keys.state(sender_id), state) for sender_id, state in selected_entries(bundle, receiver_id)]
         return [(keys.state(sender_id), state) for sender_id, state in bundle.entries]
 
     return unpack
@@ -158,7 +165,7 @@ class SwarmLink:
         self.verifier = None if key is None else Verifier(key)
         if via_radio:
             assert vehicle_id is not None
-            session.subscribe(keys.inbox(vehicle_id), self.buffer, unpack=bundle_unpacker(keys))
+            session.subscribe(group_inbox_key(keys, vehicle_id), self.buffer, unpack=bundle_unpacker(keys, vehicle_id))
         else:
             session.subscribe(keys.all_states, self.buffer, unpack=every_sample_unpacker() if audit else None,
                               with_source=audit)

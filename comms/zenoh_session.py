@@ -199,15 +199,16 @@ class ZenohSession:
                     self._publishers[key] = publisher
         publisher.put(payload)
 
-    def publisher_of(self, key: str) -> Callable[[bytes], None]:
-        """``put`` on one hot key without ``put``'s lookups (the radio emulator's inboxes, thousands of puts a
-        second); after ``close`` payloads are dropped and counted."""
+    def publisher_of(self, key: str, block: bool = False) -> Callable[[bytes], None]:
+        """``put`` on a hot key without ``put``'s lookups; dropped and counted after ``close``. ``block`` (the key's
+        first call sets it): a full link makes the put wait, where by default Zenoh drops it unseen after 1 ms."""
         with self._lock:
             if self._closed:
                 raise RuntimeError("zenoh session is closed")
-            publisher = self._publishers.get(key)
-            if publisher is None:
-                publisher = self._publishers[key] = self._session.declare_publisher(key)
+            if key not in self._publishers:
+                congestion = zenoh.CongestionControl.BLOCK if block else zenoh.CongestionControl.DROP
+                self._publishers[key] = self._session.declare_publisher(key, congestion_control=congestion)
+            publisher = self._publishers[key]
         put = publisher.put
 
         def put_unless_closed(payload: bytes) -> None:

@@ -1,7 +1,7 @@
 """The ground station's radio node in the processes engine: what the radio emulator delivers to the antenna.
 
-The emulator (``python -m comms.radio --ground-node``) puts on ``radio/0/inbox`` the states that reached the
-antenna at the launch site; each is checked against the mission key like every state the station hears, then filed
+The emulator (``python -m comms.radio --ground-node``) delivers to receiver 0 (on the group key ``radio/group/0``)
+the states that reached the antenna at the launch site; each is checked against the mission key like every state the station hears, then filed
 by :class:`~gcs.polygon.radio_node.GroundNode`, whose table the caged polygon is built from.
 """
 
@@ -14,6 +14,7 @@ import numpy as np
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import NeighbourState, decode
+from comms.radio_groups import group_inbox_key
 from comms.radio_model import GROUND_NODE_ID
 from comms.signing import MissionKey, Verifier
 from comms.swarm_link import bundle_unpacker, wall_clock_us
@@ -29,7 +30,8 @@ class GroundRadio:
         self.node = node
         self._keys = keys
         self._verifier = Verifier(key)
-        self._buffer = hub.subscribe(keys.inbox(GROUND_NODE_ID), LatestValueBuffer(), unpack=bundle_unpacker(keys))
+        self._buffer = hub.subscribe(group_inbox_key(keys, GROUND_NODE_ID), LatestValueBuffer(),
+                                     unpack=bundle_unpacker(keys, GROUND_NODE_ID))
 
     @classmethod
     def for_scenario(cls, scenario: Scenario, hub: ZenohSession, keys: MissionKeys,

@@ -2,7 +2,7 @@
 
 import pytest
 
-from comms.bundle_wire import bundle_bytes, bundle_head, encode_entry, framed_bundles
+from comms.bundle_wire import bundle_bytes, bundle_head, encode_entry
 from comms.messages import RadioBundle, decode, encode
 
 
@@ -14,10 +14,3 @@ def test_framed_bundle_equals_the_codecs_encoding(count: int) -> None:
     assert framed == encode(RadioBundle(t_s=t_s, entries=entries))
     assert decode(RadioBundle, framed) == RadioBundle(t_s=t_s, entries=entries)
 
-
-def test_one_cycles_bundles_framed_in_one_loop_equal_the_codecs() -> None:
-    entries = [(i % 7 + 1, bytes([i % 251]) * (i % 5)) for i in range(40)]
-    encoded = [encode_entry(s, p) for s, p in entries]
-    starts, ends = [0, 1, 1, 17, 20], [1, 1, 17, 20, 40]  # sizes 1, 0, 16 (array 16), 3, 20
-    framed = framed_bundles(3.5, encoded, starts, ends)
-    assert framed == [encode(RadioBundle(t_s=3.5, entries=entries[a:b])) for a, b in zip(starts, ends)]

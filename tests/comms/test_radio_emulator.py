@@ -14,8 +14,9 @@ import pytest
 
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
-from comms.messages import GroundTruth, NeighbourState, RadioBundle, RadioLinkStats, decode, encode
+from comms.messages import GroundTruth, NeighbourState, RadioGroupBundle, RadioLinkStats, decode, encode
 from comms.radio_emulator import RadioEmulator, RadioEmulatorConfig
+from comms.radio_groups import group_inbox_key, selected_entries
 from comms.radio_model import RadioModel
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohSession
@@ -94,14 +95,14 @@ def test_loss_and_latency_match_the_seeded_model(free_endpoint: Callable[[], str
             buffers = {}
             for r in (1, 2):
                 def unpack(key: str, payload: bytes, r: int = r) -> list[tuple[str, bytes]]:
-                    bundle = msgspec.msgpack.decode(payload, type=RadioBundle)
+                    bundle = msgspec.msgpack.decode(payload, type=RadioGroupBundle)
                     out = []
-                    for sender, data in bundle.entries:
+                    for sender, data in selected_entries(bundle, r):
                         state = decode(NeighbourState, data)
                         assert state is not None
                         out.append((f"{r}/{sender}/{state.seq}", b""))
                     return out
-                buffers[r] = rx.subscribe(keys.inbox(r), LatestValueBuffer(max_keys=100_000), unpack=unpack)
+                buffers[r] = rx.subscribe(group_inbox_key(keys, r), LatestValueBuffer(max_keys=100_000), unpack=unpack)
             stats_buf = rx.subscribe(keys.radio_stats)
             time.sleep(0.8)
             hub.put(keys.truth, _truth(positions))

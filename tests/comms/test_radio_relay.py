@@ -146,16 +146,29 @@ def test_skipped_sequence_numbers_are_counted_as_input_gaps() -> None:
     assert relay.counters.input_gaps == 2 + 3
 
 
-def test_bundles_carry_what_pop_due_hands_over() -> None:
-    """The emulator's framed bundles decode to exactly the (sender, payload) lists ``pop_due`` returns."""
-    from comms.messages import RadioBundle, decode
+def test_group_bundles_carry_what_pop_due_hands_over() -> None:
+    """The emulator's group bundles give every receiver exactly the (sender, payload) list ``pop_due`` returns for
+    it, in the same order, across several groups and with lost links."""
+    from comms.messages import RadioGroupBundle, decode
+    from comms.radio_groups import RADIO_GROUP_SIZE, selected_entries
 
-    relays = [RadioRelay(RadioModel(25.0, latency_s=0.1, jitter_s=0.2, seed=4)) for _ in range(2)]
+    n = 3 * RADIO_GROUP_SIZE
+    relays = [RadioRelay(RadioModel(25.0, loss_probability=0.3, latency_s=0.1, jitter_s=0.2, seed=4)) for _ in range(2)]
     for relay in relays:
-        relay.on_truth(_truth([(0, 0, 10), (1, 0, 10), (2, 0, 10), (3, 40, 10)]))
+        relay.on_truth(_truth([(4.0 * i, 0, 10) for i in range(n)]))
         for seq in (1, 2, 3):
-            for vid in (0, 1, 2, 3):
+            for vid in range(n):
                 relay.on_state(vid, _state(vid, seq), 0.01 * seq)
     expected = relays[0].pop_due(1.0)
-    got = {r: decode(RadioBundle, b).entries for r, b in relays[1].pop_due_bundles(1.0, 7.5)}
-    assert got == expected and sum(map(len, expected.values())) == 18
+    bundles = relays[1].pop_due_group_bundles(1.0, 7.5)
+    got: dict[int, list[tuple[int, bytes]]] = {}
+    for group, payload in bundles:
+        bundle = decode(RadioGroupBundle, payload)
+        assert bundle is not None and bundle.t_s == 7.5
+        assert len(bundle.entries) == len(set(bundle.entries))  # each message once per group
+        for receiver in bundle.receivers:
+            assert receiver // RADIO_GROUP_SIZE == group
+            got[receiver] = [tuple(e) for e in selected_entries(bundle, receiver)]
+    assert got == expected
+    assert [g for g, _ in bundles] == [0, 1, 2]
+    assert relays[0].counters.lost > 0 and sum(map(len, expected.values())) == relays[0].counters.delivered

@@ -69,12 +69,16 @@ def test_outside_listener_sees_public_keys_of_a_running_mission(free_endpoint: C
     with ZenohSession(ZenohConfig.hub(hub_ep)) as hub:
         hub.declare_alive(keys.alive(3))
         listener = spawn("-m", "comms.listen", "--mission", "rt2", "--connect", hub_ep, "--duration-s", "4", "--every-s", "0")
-        time.sleep(1.5)
-        for seq in range(20):
+        polygon = encode(flood_polygon_from_enu([[12, 0], [0, 12], [-12, 0], [0, -12]], GeodeticHome(), mission="rt2",
+                                                t_s=5.0))
+        deadline = time.monotonic() + 30.0
+        seq = 0
+        while listener.poll() is None and time.monotonic() < deadline:  # the listener's start-up time is the host's
             hub.put(keys.state(3), encode(NeighbourState(sender_id=3, role="boundary", seq=seq, t_s=seq * 0.05,
                                                          position_en_m=(14.0, 0.0), altitude_m=10.0, group="A")))
+            hub.put(keys.polygon, polygon)
+            seq += 1
             time.sleep(0.05)
-        hub.put(keys.polygon, encode(flood_polygon_from_enu([[12, 0], [0, 12], [-12, 0], [0, -12]], GeodeticHome(), mission="rt2", t_s=5.0)))
         out, err = listener.communicate(timeout=30)
     assert listener.returncode == 0, err
     records = [json.loads(line) for line in out.splitlines()]

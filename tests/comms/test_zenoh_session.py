@@ -16,6 +16,7 @@ import pytest
 from comms.keys import MissionKeys
 from comms.latest_buffer import LatestValueBuffer
 from comms.messages import DecodeStats, NeighbourState, encode
+from comms.radio_groups import group_inbox_key
 from comms.swarm_link import SwarmLink
 from comms.zenoh_session import ZenohConfig, ZenohOpenError, ZenohSession
 
@@ -72,7 +73,7 @@ def test_bad_payloads_on_public_and_inbox_keys_are_dropped_and_counted(free_endp
         for vid, payload in enumerate((b"", b"\xff" * 50, encode(_state(3, 1))[:-4], b"\x00" * 20_000), start=10):
             agent_session.put(keys.state(vid), payload)
         agent_session.put(keys.state(4), encode(_state(5, 1)))  # claims to be 5 on 4's key
-        hub.put(keys.inbox(1), b"not a bundle")
+        hub.put(group_inbox_key(keys, 1), b"not a bundle")
         time.sleep(0.3)
         direct.poll()
         radio.poll()
@@ -340,3 +341,15 @@ def test_hot_publisher_and_declared_keys_carry_samples_and_drop_after_close(free
         hub.close()
         put(b"late")
         assert hub.dropped_after_close == 1
+
+
+def test_a_blocking_publisher_waits_for_room_instead_of_dropping(free_endpoint: Callable[[], str]) -> None:
+    """The radio emulator's inbox puts: Zenoh's BLOCK congestion control (a full link makes the put wait) where
+    every other publisher keeps Zenoh's DROP; the first call for a key sets its mode."""
+    with ZenohSession(ZenohConfig.hub(free_endpoint())) as session:
+        blocking = session.publisher_of("zs/block", block=True)
+        session.publisher_of("zs/drop")
+        session.publisher_of("zs/block")
+        modes = {key: str(publisher.congestion_control) for key, publisher in session._publishers.items()}
+        assert modes == {"zs/block": "CongestionControl.BLOCK", "zs/drop": "CongestionControl.DROP"}
+        blocking(b"nobody listens: nothing to wait for")

@@ -12,7 +12,6 @@ from dataclasses import replace
 from typing import Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
 from mission_plan.control_params import ControlMode
 from vehicle_agents.control.boundary import boundary_step
@@ -21,7 +20,7 @@ from vehicle_agents.control.launch_stand_ins import launch_stand_ins
 from vehicle_agents.control.leader import leader_step
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.safety import braking_horizon_m, predicted_positions_en_m, safety_filter, yielded_to
+from vehicle_agents.control.safety import collision_barrier
 from vehicle_agents.control.types import (
     ROLE_BOUNDARY,
     ROLE_FOLLOWER,
@@ -53,39 +52,6 @@ def usable_neighbours(own_id: int, neighbours: Sequence[NeighbourInfo], timeout_
     ]
 
 
-def _collision_barrier(
-    role: str, velocity_en_mps: NDArray[np.float64], own: OwnState, heard: Sequence[NeighbourInfo], params: ControlParams
-) -> NDArray[np.float64]:
-    """Improved mode's last word on a command: :func:`safety.safety_filter` against every heard vehicle of the same or
-    a higher right of way, after a last-resort barrier at half the distance against those who give way to this one.
-
-    Neighbours are where their last message, carried forward by its age, puts them; the barrier counts on PX4's
-    braking (``safety_braking_mps2`` after ``safety_reaction_s``) and so looks as far out as a drone at twice the
-    speed limit (two drones head on) needs to stop.
-    """
-    obstacles = yielded_to(role, heard)
-    ids = {n.vehicle_id for n in obstacles}
-    giving_way = [n for n in heard if n.vehicle_id not in ids]
-    brake = params.safety_braking_mps2
-    reaction = params.safety_reaction_s
-    horizon_speed_mps = 2.0 * params.max_speed_mps
-    v = np.asarray(velocity_en_mps, dtype=float)
-    if giving_way:
-        # Those who give way to me still must not be run over: a last-resort barrier at half the distance.
-        last_resort_m = 0.5 * params.safety_min_distance_m
-        v = safety_filter(v, own.position_en_m, predicted_positions_en_m(giving_way), last_resort_m,
-                          max(params.safety_min_distance_m,
-                              braking_horizon_m(last_resort_m, horizon_speed_mps, brake, reaction)),
-                          params.safety_closing_rate_per_s, braking_mps2=brake, reaction_s=reaction)
-    if obstacles:
-        others_v = np.array([n.velocity_en_mps for n in obstacles], dtype=float).reshape(-1, 2)
-        v = safety_filter(v, own.position_en_m, predicted_positions_en_m(obstacles), params.safety_min_distance_m,
-                          max(params.safety_radius_m,
-                              braking_horizon_m(params.safety_min_distance_m, horizon_speed_mps, brake, reaction)),
-                          params.safety_closing_rate_per_s, others_v, braking_mps2=brake, reaction_s=reaction)
-    return v
-
-
 def control_step(
     role: str,
     memory: ControlMemory,
@@ -115,7 +81,7 @@ def control_step(
         stand_ins = launch_stand_ins(params, memory.vehicle_id, neighbours, t_s)
         obstacles = heard + stand_ins if stand_ins else heard
         if obstacles:
-            velocity[:2] = _collision_barrier(role, velocity[:2], own, obstacles, params)
+            velocity[:2] = collision_barrier(role, velocity[:2], own.position_en_m, obstacles, params)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)
     return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory

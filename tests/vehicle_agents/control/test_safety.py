@@ -7,6 +7,7 @@ from mock_autopilot.kinematics import KinematicLimits, KinematicState, step_kine
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.safety import (
     braking_horizon_m,
+    collision_barrier,
     predicted_positions_en_m,
     safety_filter,
     stopping_speed_mps,
@@ -84,3 +85,24 @@ def test_boxed_in_inside_the_minimum_the_barrier_closes_on_nobody() -> None:
     assert np.all(towards @ v <= 1e-9)
     assert v[0] > 2.0  # east, the free side, is still open
 
+
+
+def test_a_leader_told_off_by_a_boundary_drone_does_not_run_over_a_follower() -> None:
+    """Launch crowd: a boundary drone 2 m west (inside the 2.5 m it is owed: move east) and a follower 1.3 m east
+    (just outside the 1.25 m last resort). The two demands contradict; the leader must not close on the follower."""
+    params = ControlParams(mode="improved")
+    boundary = NeighbourInfo(1, "boundary", np.array([-2.0, 0.0]), np.zeros(2), 10.0)
+    follower = NeighbourInfo(11, "follower", np.array([1.3, 0.0]), np.zeros(2), 10.0)
+    v = collision_barrier("leader", np.zeros(2), np.zeros(2), [boundary, follower], params)
+    gap_m = 1.3 - 0.5 * params.safety_min_distance_m
+    assert v[0] <= params.safety_closing_rate_per_s * gap_m + 1e-9
+    alone = collision_barrier("leader", np.zeros(2), np.zeros(2), [boundary], params)
+    assert alone[0] > v[0]  # without the follower the leader does move east, away from the boundary drone
+
+
+def test_the_barrier_leaves_a_command_clear_of_everyone_unchanged() -> None:
+    params = ControlParams(mode="improved")
+    heard = [NeighbourInfo(1, "boundary", np.array([-8.0, 0.0]), np.zeros(2), 10.0),
+             NeighbourInfo(11, "follower", np.array([0.0, 9.0]), np.zeros(2), 10.0)]
+    command = np.array([0.5, -0.3])
+    assert np.array_equal(collision_barrier("leader", command, np.zeros(2), heard, params), command)
