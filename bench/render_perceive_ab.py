@@ -2,7 +2,7 @@
 process (before/after ratios that hold on a loaded machine, where separate runs differ by tens of per cent).
 
     git archive main | tar -x -C /tmp/main_tree      # a checkout of the code before
-    .venv/bin/python -m bench.render_perceive_ab --before /tmp/main_tree [--frames 300]
+    .venv/bin/python -m bench.render_perceive_ab --before /tmp/main_tree [--frames 300] [--floods river,circle]
 
 The before checkout's ``mock_autopilot/camera`` and ``vehicle_agents/perception`` are copied into a scratch
 directory as the packages ``before_camera`` and ``before_perception`` (their own imports of each other renamed);
@@ -86,6 +86,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--before", type=Path, required=True, help="checkout of the code before")
     parser.add_argument("--frames", type=int, default=300)
+    parser.add_argument("--floods", default=None, help="only the cases of these floods (comma-separated)")
     args = parser.parse_args()
     cv2.setNumThreads(1)
     with tempfile.TemporaryDirectory() as scratch:
@@ -93,7 +94,8 @@ def main() -> None:
         print(f"{machine()} (start)", file=sys.stderr)
         print("| flood | imaging | render before / after | perceive before / after | render + perceive before / "
               "after | after / before (render, perceive, both) |\n|---|---|---|---|---|---|")
-        for flood_name, label in CASES:
+        floods = set(args.floods.split(",")) if args.floods else None
+        for flood_name, label in (c for c in CASES if floods is None or c[0] in floods):
             r = time_case(flood_name, label, args.frames, before)
             ratios = ", ".join(f"{r['after ' + k] / r['before ' + k]:.2f}" for k in ("render", "perceive", "both"))
             print(f"| {flood_name} | {label} | {r['before render']:.2f} / {r['after render']:.2f} | "

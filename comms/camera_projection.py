@@ -30,10 +30,11 @@ def pixel_to_ground(width_px: int, height_px: int, fov_deg: float, height_m: flo
     k = math.tan(math.radians(fov_deg) / 2.0) / (width_px / 2.0)
     to_body = np.array([[0.0, -k, k * height_px / 2.0], [k, 0.0, -k * width_px / 2.0], [0.0, 0.0, 1.0]])
     to_ned = body_to_ned_matrix(roll_rad, pitch_rad, yaw_ned_rad) @ to_body
-    corners = np.array([[0.0, 0.0, 1.0], [width_px, 0.0, 1.0], [0.0, height_px, 1.0], [width_px, height_px, 1.0]])
-    rays = corners @ to_ned.T
-    if float((rays[:, 2] / np.linalg.norm(rays, axis=1)).min()) < MIN_RAY_DOWN:
-        return None
+    (a, b, c), (d, e, f), (g, h, i) = to_ned.tolist()
+    for x, y in ((0.0, 0.0), (width_px, 0.0), (0.0, height_px), (width_px, height_px)):
+        north, east, down = a * x + b * y + c, d * x + e * y + f, g * x + h * y + i
+        if down < MIN_RAY_DOWN * math.sqrt(north * north + east * east + down * down):
+            return None
     pick_en = np.array([[0.0, height_m, 0.0], [height_m, 0.0, 0.0], [0.0, 0.0, 1.0]])
     return pick_en @ to_ned
 

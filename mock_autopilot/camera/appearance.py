@@ -28,6 +28,8 @@ SENSOR_NOISE_SIGMA = 4.0
 
 WET_BAND_UNIT_M = 0.004
 """Resolution of the packed wet-band width [m per count]."""
+WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
+"""How much fully wet soil loses of each colour channel (B, G, R)."""
 
 # BGR colours (0-255) of the ground classes.
 _GRASS = np.array([55.0, 120.0, 80.0])
@@ -52,11 +54,15 @@ STREAK_CONTRAST = 0.07
 """Brightness swing of the streaks on fast water (kept small: they are texture, not a second kind of ground)."""
 STREAK_FULL_SPEED_MPS = 0.4
 """Water this fast shows the full streak contrast; still water shows none."""
+STREAK_ZERO = 128.0
+STREAK_SCALE = 127.0
+"""The 8-bit streak tile holds ``STREAK_ZERO + STREAK_SCALE · pattern``."""
 
 
 @lru_cache(maxsize=4)
-def streak_tile(seed: int) -> NDArray[np.float32]:
-    """(TILE_PX, TILE_PX) streak pattern in [-1, 1], lines along the tile's x axis (periodic, so it tiles): the
+def streak_tile(seed: int) -> NDArray[np.uint8]:
+    """(TILE_PX, TILE_PX) streak pattern in [-1, 1], stored as ``STREAK_ZERO + STREAK_SCALE · value`` in 8 bits (a
+    quarter of the memory a frame's warp reads), lines along the tile's x axis (periodic, so it tiles): the
     renderer turns it to run along the current. Lines ``STREAK_SPACING_M`` apart that wander every
     ``STREAK_WAVE_M``, with a seeded phase."""
     rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, 0x57EA])
@@ -66,7 +72,7 @@ def streak_tile(seed: int) -> NDArray[np.float32]:
     waves = round(tile_m / STREAK_WAVE_M)
     y, x = np.mgrid[0:n, 0:n] * (2.0 * math.pi / n)
     wander = 1.5 * np.sin(waves * x + rng.uniform(0.0, 2.0 * math.pi)) + 0.6 * fractal_noise(n, 2.0, rng)
-    return np.sin(lines * y + wander).astype(np.float32)
+    return np.rint(STREAK_ZERO + STREAK_SCALE * np.sin(lines * y + wander)).astype(np.uint8)
 
 
 def streak_strength(speed_mps: NDArray[np.float32]) -> NDArray[np.float32]:
@@ -99,6 +105,9 @@ class GroundTextures:
     of the wet shoreline band at each place in units of ``WET_BAND_UNIT_M`` (packed so one lookup fetches both)."""
     water_bgr: NDArray[np.uint8]
     """(TILE_PX, TILE_PX, 3) water: murky colour, sky reflections and ripples."""
+    land_and_water: NDArray[np.uint16]
+    """(TILE_PX, TILE_PX, 4) both tiles interleaved, 8 bytes per texel (land B, G, R, band width, water B, G, R, 0)
+    seen as four 16-bit channels: one warp fetches a texel of each from one cache line (see ``render``)."""
 
 
 @dataclass(frozen=True)
@@ -107,8 +116,12 @@ class SensorEffects:
 
     gain_bgr: NDArray[np.float32]
     """(H, W, 3) multiplicative lighting: a sun gradient across the image and lens vignetting."""
-    noise_bgr: NDArray[np.int16]
-    """(NOISE_FRAMES, H, W, 3) additive Gaussian sensor noise [DN], rounded."""
+    noise_up_bgr: NDArray[np.uint8]
+    """(NOISE_FRAMES, H, W, 3) the positive part of additive Gaussian sensor noise [DN], rounded ..."""
+    noise_down_bgr: NDArray[np.uint8]
+    """... and its negative part, as a magnitude: a pixel's noise is one or the other, so adding the first and
+    subtracting the second with 8-bit saturation gives the noisy pixel exactly (two 8-bit passes instead of a
+    mixed 8/16-bit one)."""
 
 
 def _smoothstep(x: NDArray[np.floating]) -> NDArray[np.floating]:
@@ -138,10 +151,11 @@ def ground_textures(seed: int) -> GroundTextures:
     water *= (1.0 + 0.04 * ripples + 0.04 * detail)[..., None]
 
     wet_band = 0.25 + 0.35 * _smoothstep((fractal_noise(n, 1.7, rng) + 1.5) / 3.0)
-    return GroundTextures(
-        land_bgrw=np.clip(np.dstack([land, wet_band / WET_BAND_UNIT_M]), 0, 255).astype(np.uint8),
-        water_bgr=np.clip(water, 0, 255).astype(np.uint8),
-    )
+    land_bgrw = np.clip(np.dstack([land, wet_band / WET_BAND_UNIT_M]), 0, 255).astype(np.uint8)
+    water_bgr = np.clip(water, 0, 255).astype(np.uint8)
+    texels = np.dstack([land_bgrw, water_bgr, np.zeros((n, n, 1), np.uint8)])
+    return GroundTextures(land_bgrw=land_bgrw, water_bgr=water_bgr,
+                          land_and_water=np.ascontiguousarray(texels).view(np.uint16))
 
 
 @lru_cache(maxsize=16)
@@ -155,5 +169,6 @@ def sensor_effects(seed: int, width_px: int, height_px: int) -> SensorEffects:
     gradient = 0.14 * (math.cos(sun) * x + math.sin(sun) * y) / 0.5
     vignette = -0.25 * (x * x + y * y)
     gain = np.repeat((1.0 + gradient + vignette)[..., None], 3, axis=2).astype(np.float32)
-    noise = np.rint(rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3))).astype(np.int16)
-    return SensorEffects(gain_bgr=gain, noise_bgr=noise)
+    noise = np.rint(rng.normal(0.0, SENSOR_NOISE_SIGMA, (NOISE_FRAMES, height_px, width_px, 3)))
+    return SensorEffects(gain_bgr=gain, noise_up_bgr=np.clip(noise, 0, 255).astype(np.uint8),
+                         noise_down_bgr=np.clip(-noise, 0, 255).astype(np.uint8))

@@ -25,16 +25,14 @@ from mock_autopilot.camera.appearance import (
     NOISE_FRAMES,
     TILE_PX,
     TILE_RESOLUTION_M,
-    WATER_TURBID_BGR,
     WET_BAND_UNIT_M,
+    WET_DARKENING_BGR,
     ground_textures,
     sensor_effects,
-    streak_strength_of_speed,
-    streak_tile,
-    water_shading,
 )
 from mock_autopilot.camera.imaging_conditions import FrameInputs, apply_imaging
 from mock_autopilot.camera.model import CameraModel
+from mock_autopilot.camera.water_over_terrain import GAIN_FIXED_ONE, shade_by_depth, streaks, wet_shore_gain8
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
 from mission_plan.imaging import ImagingSpec
@@ -43,12 +41,13 @@ MIN_ALTITUDE_M = 0.1
 """Altitudes below this (a drone on its pad) are rendered as if from this height."""
 MARGIN_PX = 8
 """Extra ring of pixels evaluated around the image so the wet band near the image border sees off-image water."""
-DEPTH_LUT_STEP_M = 0.005
-"""Depth resolution of the water shading table [m] (256 steps: to 1.275 m, deeper water shades as that)."""
 _PIXEL_CENTRES = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.5], [0.0, 0.0, 1.0]])
 """Pixel index (column, row) -> continuous image coordinates of its centre."""
-_WET_DARKENING_BGR = np.array([0.5, 0.45, 0.35], np.float32)
-"""How much fully wet soil loses of each colour channel (B, G, R)."""
+_WET_DARKENING_SCALAR = tuple(float(k) for k in WET_DARKENING_BGR) + (0.0,)
+_ONE_BGR = (1.0, 1.0, 1.0, 0.0)
+_CORNER_ROWS = np.array([0, 1, MARGIN_PX, MARGIN_PX + 1])
+"""Rows (and columns) of the padded pixel grid whose ground points a depth-shaded level frame needs: the grid's
+first two (the depth raster's warp) and the image's first two (the streaks)."""
 
 
 @dataclass(frozen=True)
@@ -104,11 +103,20 @@ def ground_points_en_m(
         right, forward = _pixel_grid(camera.width_px, camera.height_px, margin_px)
         return project_pixels(to_ground, right + camera.width_px / 2.0, camera.height_px / 2.0 - forward) + np.array(
             [east, north])
+    right, forward = _pixel_axes(camera.width_px, camera.height_px, margin_px)
+    return _level_points(camera, (east, north, up), yaw_ned_rad, right, forward)
+
+
+def _level_points(camera: CameraModel, position_enu_m: tuple[float, float, float], yaw_ned_rad: float,
+                  right: NDArray[np.float64], forward: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(len(forward), len(right), 2) ground points of a level camera at the pixel-centre offsets ``right`` (along a
+    row) and ``forward`` (up a column) [px]: the whole grid, or some of its rows and columns in the same arithmetic
+    (a flood that warps its depth raster only needs the grid's corner)."""
+    east, north, up = position_enu_m
     gsd = camera.ground_sample_m(max(up, MIN_ALTITUDE_M))
     heading = yaw_ned_to_enu_rad(yaw_ned_rad)
     fwd_e, fwd_n = math.cos(heading), math.sin(heading)
     right_e, right_n = fwd_n, -fwd_e
-    right, forward = _pixel_axes(camera.width_px, camera.height_px, margin_px)
     points = np.empty((forward.size, right.size, 2))
     for axis, origin, along_right, along_forward in ((0, east, right_e, fwd_e), (1, north, right_n, fwd_n)):
         along_row = right * (gsd * along_right)
@@ -176,11 +184,23 @@ def render_frame(
     if to_tile is None:
         return _blank(camera)
     m, h, w = MARGIN_PX, camera.height_px, camera.width_px
-    points = ground_points_en_m(camera, (pos[0], pos[1], altitude_m), yaw_ned_rad, margin_px=m, tilt_rad=tilt)
-    water_padded, depth = _water_under(flood, points, t_s, level=tilt == (0.0, 0.0))
+    at = (float(pos[0]), float(pos[1]), altitude_m)
+    points = None
+    if tilt == (0.0, 0.0) and _knows_depth(type(flood)):
+        right, forward = _pixel_axes(w, h, m)
+        grid = _level_points(camera, at, yaw_ned_rad, right[_CORNER_ROWS], forward[_CORNER_ROWS])
+        depth = flood.depth_on_affine_grid_m(grid[:2, :2], t_s, shape_hw=(h + 2 * m, w + 2 * m))  # type: ignore
+        water_padded = depth > flood.wet_depth_m  # type: ignore[attr-defined]
+        image_corner = grid[2:, 2:]
+    else:
+        points = ground_points_en_m(camera, at, yaw_ned_rad, margin_px=m, tilt_rad=tilt)
+        water_padded, depth = _water_under(flood, points, t_s, level=tilt == (0.0, 0.0))
+        image_corner = points[m : m + 2, m : m + 2]
     water = water_padded[m : m + h, m : m + w]
-    image = _ground_image(flood, t_s, pos, points, water_padded, depth, to_tile, camera, gsd, seed)
+    image = _ground_image(flood, t_s, pos, image_corner, water_padded, depth, to_tile, camera, gsd, seed)
     if not imaging.is_clean:
+        if points is None:
+            points = ground_points_en_m(camera, at, yaw_ned_rad, margin_px=m)
         image = apply_imaging(image, water, imaging, FrameInputs(
             seed=seed, vehicle_id=pose.vehicle_id, t_s=t_s, ground_points_en_m=points[m : m + h, m : m + w],
             height_m=altitude_m, ground_sample_m=gsd, position_en_m=(float(pos[0]), float(pos[1])),
@@ -211,92 +231,53 @@ def _water_under(flood: FloodModel, points: NDArray[np.float64], t_s: float, lev
     return depth > flood.wet_depth_m, depth  # type: ignore[attr-defined]
 
 
-def _ground_image(flood: FloodModel, t_s: float, pos: NDArray[np.float64], points: NDArray[np.float64],
+def _ground_image(flood: FloodModel, t_s: float, pos: NDArray[np.float64], image_corner: NDArray[np.float64],
                   water_padded: NDArray[np.bool_], depth: NDArray[np.float32] | None, to_tile: NDArray[np.float64],
                   camera: CameraModel, gsd: float, seed: int) -> NDArray[np.uint8]:
     """The scene through the lens: land and water textures, the wet shore band, depth shading and flow streaks, then
-    optical blur, lighting (sun gradient, vignetting) and sensor noise."""
+    optical blur, lighting (sun gradient, vignetting) and sensor noise. ``image_corner`` holds the ground points of
+    the image's first two rows and columns of pixels (the streaks are laid along them)."""
     m, h, w = MARGIN_PX, camera.height_px, camera.width_px
     water = water_padded[m : m + h, m : m + w]
     textures = ground_textures(seed)
-    land = _sample_tile(textures.land_bgrw, to_tile, w, h)
+    any_water = bool(water_padded.any())
+    if any_water:
+        land, water_bgra = _sample_land_and_water(textures.land_and_water, to_tile, w, h)
+    else:
+        land = _sample_tile(textures.land_bgrw, to_tile, w, h)
     colour = cv2.cvtColor(land, cv2.COLOR_BGRA2BGR)
     wet_factor = None
-    if water_padded.any():
-        wet_factor = _wet_shore_factor(water_padded, water, land, gsd)
-        water_colour = _sample_tile(textures.water_bgr, to_tile, w, h)
+    if any_water:
+        if depth is None:
+            wet_factor = _wet_shore_factor(water_padded, land, gsd)
+        else:
+            colour = cv2.multiply(colour, wet_shore_gain8(water_padded, m, land, gsd), scale=1.0 / GAIN_FIXED_ONE)
+        water_colour = cv2.cvtColor(water_bgra, cv2.COLOR_BGRA2BGR)
         if depth is not None:
             flow = flood.flow_at_mps(pos[:2], t_s)  # type: ignore[attr-defined]
-            streaks = _streaks(flow, points[m : m + h, m : m + w], seed)
-            water_colour = _shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]), streaks)
+            water_colour = shade_by_depth(water_colour, np.ascontiguousarray(depth[m : m + h, m : m + w]),
+                                          streaks(flow, image_corner, (h, w), seed))
         colour = cv2.copyTo(water_colour, water.view(np.uint8), colour)
     colour = cv2.GaussianBlur(colour, (3, 3), 0.6)
     effects = sensor_effects(seed, w, h)
     gain = effects.gain_bgr if wet_factor is None else cv2.multiply(effects.gain_bgr, wet_factor)
     shaded = cv2.multiply(colour, gain, dtype=cv2.CV_8U)
-    return cv2.add(shaded, effects.noise_bgr[_noise_index(t_s, pos, seed)], dtype=cv2.CV_8U)
+    noise = _noise_index(t_s, pos, seed)
+    return cv2.subtract(cv2.add(shaded, effects.noise_up_bgr[noise]), effects.noise_down_bgr[noise])
 
 
-def _wet_shore_factor(water_padded: NDArray[np.bool_], water: NDArray[np.bool_], land_bgrw: NDArray[np.uint8],
-                      gsd: float) -> NDArray[np.float32]:
+def _wet_shore_factor(water_padded: NDArray[np.bool_], land_bgrw: NDArray[np.uint8], gsd: float
+                      ) -> NDArray[np.float32]:
     """(H, W, 3) gain darkening the land within the seeded wet band of the water (wet soil is darker, and keeps
     more red than blue); 1 on the water and beyond the band."""
-    m, h, w = MARGIN_PX, water.shape[0], water.shape[1]
-    distance_px = cv2.distanceTransform((~water_padded).view(np.uint8), cv2.DIST_L2, 3)[m : m + h, m : m + w]
-    band = cv2.extractChannel(land_bgrw, 3).astype(np.float32)
-    wetness = 1.0 - cv2.divide(distance_px, band, scale=gsd / WET_BAND_UNIT_M)
-    np.copyto(wetness, 0.0, where=water)
-    wetness = cv2.max(wetness, 0.0)
-    return cv2.merge([1.0 - float(k) * wetness for k in _WET_DARKENING_BGR])
-
-
-def _streaks(flow_mps: tuple[float, float], points_en_m: NDArray[np.float64], seed: int) -> NDArray[np.float32]:
-    """Per-pixel brightness gain of flow streaks: the world-anchored streak tile turned to run along the current
-    below the drone, with the contrast of its speed (one warp of a cached tile; a frame spans a few metres, over
-    which the current hardly turns)."""
-    shape = points_en_m.shape[:2]
-    speed = math.hypot(*flow_mps)
-    strength = streak_strength_of_speed(speed)
-    if strength <= 0.0:
-        return np.ones(shape, np.float32)
-    c, s = flow_mps[0] / speed, flow_mps[1] / speed
-    origin = points_en_m[0, 0]
-    d_col = points_en_m[0, 1] - origin
-    d_row = points_en_m[1, 0] - origin
-    k = 1.0 / TILE_RESOLUTION_M
-    tile_m = TILE_PX * TILE_RESOLUTION_M
-    along0, across0 = (origin[0] * c + origin[1] * s) % tile_m, (-origin[0] * s + origin[1] * c) % tile_m
-    to_tile = np.array([
-        [k * (d_col[0] * c + d_col[1] * s), k * (d_row[0] * c + d_row[1] * s), k * along0],
-        [k * (-d_col[0] * s + d_col[1] * c), k * (-d_row[0] * s + d_row[1] * c), k * across0],
-    ])
-    pattern = cv2.warpAffine(streak_tile(seed), to_tile, (shape[1], shape[0]),
-                             flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_WRAP)
-    return cv2.addWeighted(pattern, strength, pattern, 0.0, 1.0)
-
-
-@lru_cache(maxsize=1)
-def _depth_luts() -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    """Per depth step of ``DEPTH_LUT_STEP_M``: the gain on the water texture (one value for all three channels) and
-    the turbid colour added (BGR), so shading a frame is two table lookups: ``water · gain + offset``."""
-    depth = np.arange(256, dtype=np.float32) * DEPTH_LUT_STEP_M
-    turbid, brightness = water_shading(depth)
-    gain = (brightness * (1.0 - turbid)).astype(np.float32)
-    offset = turbid[:, None] * WATER_TURBID_BGR[None, :]
-    return gain.reshape(1, 256), offset.reshape(1, 256, 3).astype(np.float32)
-
-
-def _shade_by_depth(water_bgr: NDArray[np.uint8], depth_m: NDArray[np.float32],
-                    streaks: NDArray[np.float32]) -> NDArray[np.uint8]:
-    """Water over terrain: turbid grey-brown where shallow (the shoreline is a soft step, not a colour edge), the
-    texture's murky blue beyond, darker as it deepens (``appearance.water_shading``, tabulated), with flow streaks
-    (``appearance.streak_gain``) on the clear part. The gain is the same on every channel, so it is looked up and
-    multiplied once and then spread over the three."""
-    gain, offset = _depth_luts()
-    step = cv2.convertScaleAbs(depth_m, alpha=1.0 / DEPTH_LUT_STEP_M)
-    clear_gain = cv2.multiply(cv2.LUT(step, gain), streaks)
-    shaded = cv2.multiply(water_bgr, cv2.merge([clear_gain, clear_gain, clear_gain]), dtype=cv2.CV_32F)
-    return cv2.add(shaded, cv2.LUT(cv2.merge([step, step, step]), offset), dtype=cv2.CV_8U)
+    m, h, w = MARGIN_PX, land_bgrw.shape[0], land_bgrw.shape[1]
+    dry_padded = (~water_padded).view(np.uint8)
+    distance_px = cv2.distanceTransform(dry_padded, cv2.DIST_L2, 3)[m : m + h, m : m + w]
+    band = cv2.extractChannel(land_bgrw, 3)
+    wetness = cv2.subtract(1.0, cv2.divide(distance_px, band, scale=gsd / WET_BAND_UNIT_M, dtype=cv2.CV_32F))
+    wetness = cv2.multiply(wetness, dry_padded[m : m + h, m : m + w], dtype=cv2.CV_32F)  # 0 on the water
+    cv2.max(wetness, 0.0, dst=wetness)
+    return cv2.subtract(_ONE_BGR, cv2.multiply(cv2.merge([wetness, wetness, wetness]), _WET_DARKENING_SCALAR))
 
 
 def _texture_transform(
@@ -339,6 +320,16 @@ def _sample_tile(tile: NDArray[np.uint8], to_tile: NDArray[np.float64], width_px
     warp = cv2.warpAffine if to_tile.shape[0] == 2 else cv2.warpPerspective
     return warp(tile, to_tile, (width_px, height_px), flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
                 borderMode=cv2.BORDER_WRAP)
+
+
+def _sample_land_and_water(texels: NDArray[np.uint16], to_tile: NDArray[np.float64], width_px: int,
+                           height_px: int) -> tuple[NDArray[np.uint8], NDArray[np.uint8]]:
+    """(land B, G, R, band; water B, G, R, 0) images, both (H, W, 4) uint8, seen through ``to_tile``: one
+    nearest-neighbour warp of the interleaved tiles (``appearance.GroundTextures.land_and_water``; the same texels
+    as two warps would pick), then the 8-byte texels split into their two 4-byte halves."""
+    both = _sample_tile(texels, to_tile, width_px, height_px)  # type: ignore[arg-type]
+    land, water = cv2.split(both.view(np.int32))
+    return land.view(np.uint8).reshape(height_px, width_px, 4), water.view(np.uint8).reshape(height_px, width_px, 4)
 
 
 def _noise_index(t_s: float, position_enu_m: NDArray[np.float64], seed: int) -> int:

@@ -45,8 +45,10 @@ class DepthField(Protocol):
         """Water depth [m] at each (..., 2) point at time ``t_s``."""
         ...
 
-    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float) -> NDArray[np.float32]:
-        """``depth_m`` for an (H, W, 2) grid of points affine in its indices (faster; the camera's footprint)."""
+    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float,
+                               shape_hw: tuple[int, int] | None = None) -> NDArray[np.float32]:
+        """``depth_m`` for an (H, W, 2) grid of points affine in its indices (faster; the camera's footprint); with
+        ``shape_hw`` only the grid's first 2x2 points are given."""
         ...
 
     def flow_at_mps(self, point_en_m: ArrayLike, t_s: float) -> tuple[float, float]:

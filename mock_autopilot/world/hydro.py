@@ -72,7 +72,7 @@ class HydroFlood:
         if cached is not None:
             return cached
         times = self.run.times_s
-        k = int(np.clip(np.searchsorted(times, th, side="right") - 1, 0, len(times) - 2))
+        k = min(max(int(np.searchsorted(times, th, side="right")) - 1, 0), len(times) - 2)
         w = float((th - times[k]) / (times[k + 1] - times[k]))
         blend = cv2.addWeighted(self.run.depth_m[k], 1.0 - w, self.run.depth_m[k + 1], w, 0.0)
         blend.flags.writeable = False
@@ -85,10 +85,12 @@ class HydroFlood:
         col, row = self.grid.grid_coordinates(points_en_m)
         return sample_grid(self.depth_raster_m(t_s), col, row, cv2.INTER_LINEAR, 0.0)
 
-    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float) -> NDArray[np.float32]:
+    def depth_on_affine_grid_m(self, points_en_m: NDArray[np.float64], t_s: float,
+                               shape_hw: tuple[int, int] | None = None) -> NDArray[np.float32]:
         """``depth_m`` for an (H, W, 2) grid of points that is affine in its indices (a nadir camera's footprint):
-        one ``warpAffine`` of the depth raster instead of a per-point lookup."""
-        h, w = points_en_m.shape[:2]
+        one ``warpAffine`` of the depth raster instead of a per-point lookup. With ``shape_hw`` = (H, W) only the
+        grid's first 2x2 points need be given (they fix the affine map)."""
+        h, w = shape_hw if shape_hw is not None else points_en_m.shape[:2]
         return cv2.warpAffine(self.depth_raster_m(t_s), self._to_raster(points_en_m), (w, h),
                               flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_CONSTANT,
                               borderValue=0.0)
@@ -96,13 +98,19 @@ class HydroFlood:
     def _to_raster(self, points_en_m: NDArray[np.float64]) -> NDArray[np.float64]:
         """2x3 affine map from (column, row) of an affine grid of points to fractional raster (column, row)."""
         h, w = points_en_m.shape[:2]
-        origin = points_en_m[0, 0]
-        along_col = points_en_m[0, 1] - origin if w > 1 else np.zeros(2)
-        along_row = points_en_m[1, 0] - origin if h > 1 else np.zeros(2)
+        (e0, n0), (e_col, n_col) = points_en_m[0, 0].tolist(), points_en_m[0, min(w - 1, 1)].tolist()
+        e_row, n_row = points_en_m[min(h - 1, 1), 0].tolist()
         cell = self.grid.cell_m
-        c0, r0 = self.grid.grid_coordinates(origin)
-        return np.array([[along_col[0] / cell, along_row[0] / cell, float(c0)],
-                         [-along_col[1] / cell, -along_row[1] / cell, float(r0)]])
+        c0, r0 = self._point_coordinates(e0, n0)
+        return np.array([[(e_col - e0) / cell, (e_row - e0) / cell, c0],
+                         [-(n_col - n0) / cell, -(n_row - n0) / cell, r0]])
+
+    def _point_coordinates(self, east_m: float, north_m: float) -> tuple[float, float]:
+        """``grid.grid_coordinates`` of one point, in the same arithmetic on plain floats."""
+        rows, cols = self.grid.shape
+        cx, cy = self.grid.center_en_m
+        return ((east_m - cx) / self.grid.cell_m + cols / 2.0 - 0.5,
+                -(north_m - cy) / self.grid.cell_m + rows / 2.0 - 0.5)
 
     def flow_raster_mps(self, t_s: float) -> NDArray[np.float32]:
         """(rows, cols, 2) surface flow velocity [m/s; east, north] of the recorded frame nearest ``t_s``, estimated
@@ -125,9 +133,10 @@ class HydroFlood:
 
     def flow_at_mps(self, point_en_m: ArrayLike, t_s: float) -> tuple[float, float]:
         """Surface flow velocity [m/s; east, north] in the raster cell holding one point (zero off the domain)."""
-        col, row = self.grid.grid_coordinates(np.asarray(point_en_m, float))
+        east, north = (float(v) for v in np.asarray(point_en_m, float).reshape(-1)[:2])
+        col, row = self._point_coordinates(east, north)
         rows, cols = self.grid.shape
-        c, r = int(round(float(col))), int(round(float(row)))
+        c, r = int(round(col)), int(round(row))
         if not (0 <= c < cols and 0 <= r < rows):
             return 0.0, 0.0
         flow = self.flow_raster_mps(t_s)[r, c]

@@ -82,6 +82,8 @@ def _unusable_exposure(image: NDArray[np.uint8]) -> bool:
     mean, std = cv2.meanStdDev(grey)
     if float(mean[0, 0]) < DARK_MEAN_DN or float(std[0, 0]) < FLAT_STD_DN:
         return True
+    if float(mean[0, 0]) < SATURATED_FRACTION * 254.0:
+        return False  # a blown-out frame's mean is at least that
     _, saturated = cv2.threshold(grey, 253, 1, cv2.THRESH_BINARY)  # grey 254-255: every channel at or near 255
     return cv2.countNonZero(saturated) >= SATURATED_FRACTION * grey.size
 
@@ -117,10 +119,9 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     its normal (water to land) and tangent (water on the left), all on the ground."""
     h, w = mask.shape
     n = h * w
-    m = cv2.moments(mask.view(np.uint8), binaryImage=True)
-    n_water = m["m00"]
+    n_water, sum_x, sum_y = _water_moments(mask)
     # Pixel-centre moments (x = column + 0.5, y = row + 0.5); the whole image's are known in closed form.
-    water_px = np.array([m["m10"] / n_water + 0.5, m["m01"] / n_water + 0.5])
+    water_px = np.array([sum_x / n_water + 0.5, sum_y / n_water + 0.5])
     land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
     water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px)
     edge_px = _edge_points_px(mask, score, threshold)
@@ -148,12 +149,26 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     )
 
 
+def _water_moments(mask: NDArray[np.bool_]) -> tuple[float, float, float]:
+    """(pixel count, sum of columns, sum of rows) of the water pixels: the image moments m00, m10 and m01, from the
+    per-column and per-row counts (integers, so the sums are exact, as ``cv2.moments`` gives them, at less cost)."""
+    m8 = mask.view(np.uint8)
+    columns = cv2.reduce(m8, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
+    rows = cv2.reduce(m8, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
+    return float(columns.sum()), float(columns @ _indices(columns.size)), float(rows @ _indices(rows.size))
+
+
+@lru_cache(maxsize=8)
+def _indices(n: int) -> NDArray[np.int64]:
+    return np.arange(n, dtype=np.int64)
+
+
 def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64]) -> NDArray[np.float64] | None:
     """Unit normal of the edge, from water to land: across the principal axis of the edge points (closed form for
     2x2), turned towards the land centroid; the centroid line itself when there are too few points."""
     normal = water_to_land
     if edge_en.shape[0] >= 2:
-        d = edge_en - edge_en.mean(axis=0)
+        d = edge_en - np.add.reduce(edge_en, axis=0) / edge_en.shape[0]  # the mean, without np.mean's wrapper
         sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
         axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
         pca_normal = np.array([-math.sin(axis), math.cos(axis)])
