@@ -222,14 +222,15 @@ def _preamble(rows_by_campaign: Mapping[str, Sequence[Row]], stamp: str) -> list
         "python -m gcs.campaign.results_doc",
         "```",
         "",
-        "| campaign | runs planned | rows | failed | wall time per run p50 [p5, p95] [s] |",
-        "|---|---|---|---|---|",
+        "| campaign | runs planned | rows | failed | wall time per run p50 [p5, p95] [s] | code of its rows |",
+        "|---|---|---|---|---|---|",
     ]
     for campaign in CAMPAIGNS:
         rows = rows_by_campaign.get(campaign.name, [])
         wall = distribution(r.get("wall_s") for r in rows)
+        code = ", ".join(sorted({str(r.get("code_version")) for r in rows})) or "—"
         out.append(f"| `{campaign.name}` | {campaign.planned_runs()} | {len(rows)} | {len(failed_rows(rows))} | "
-                   f"{fmt_stats(wall, '{:.0f}')} |")
+                   f"{fmt_stats(wall, '{:.0f}')} | {code} |")
     return out
 
 

@@ -31,7 +31,7 @@ def test_render_targets_distributions_and_commands() -> None:
         in text
     assert "--grid control.pdot_reading=full,none" in text
     assert "| T_enc [s] | <= 20 | 21.3 [21.2, 21.4] | 0.2 | 10.9 | 0.0 | yes (20/20 runs) |" in text
-    assert "| `circle` | 40 | 41 | 1 | 20 |" in text and "| `large` | 10 | 0 | 0 | — |" in text
+    assert "| `circle` | 40 | 41 | 1 | 20 | abc123 |" in text and "| `large` | 10 | 0 | 0 | — | — |" in text
     assert "| improved | full | 2 of 20 |" in text and "| paper | normal (default) | 20 |" in text
     assert NOTHING_MOVED in text and "OverflowError: x" in text
     assert len(CAMPAIGNS) == 17
@@ -58,7 +58,7 @@ def test_main_reads_rows_from_the_campaign_folders(tmp_path: Path) -> None:
         write_row(tmp_path / "circle", row["run_id"], row)
     out = tmp_path / "RESULTS.md"
     assert main(["--root", str(tmp_path), "--out", str(out)]) == 0
-    assert "| `circle` | 40 | 2 | 0 | 20 |" in out.read_text()
+    assert "| `circle` | 40 | 2 | 0 | 20 | abc123 |" in out.read_text()
 
 
 def test_report_rewrites_summary_and_plots_from_rows_alone(tmp_path: Path) -> None:
