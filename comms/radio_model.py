@@ -57,9 +57,13 @@ def squared_distances(from_m: NDArray[np.float64], to_m: NDArray[np.float64]) ->
     The range gate of every engine goes through here, so all of them decide "in range" with the same arithmetic.
     One (K, N) array per axis instead of a (K, N, D) difference: a quarter of the cost for the emulator's batches.
     """
-    total = np.zeros((from_m.shape[0], to_m.shape[0]))
-    for axis in range(from_m.shape[1]):
-        diff = np.subtract.outer(from_m[:, axis], to_m[:, axis])
+    if from_m.shape[1] == 0:
+        return np.zeros((from_m.shape[0], to_m.shape[0]))
+    total = np.subtract.outer(from_m[:, 0], to_m[:, 0])
+    np.multiply(total, total, out=total)  # the first axis alone: exactly 0.0 + its square, the same sum
+    diff = np.empty_like(total)
+    for axis in range(1, from_m.shape[1]):
+        np.subtract.outer(from_m[:, axis], to_m[:, axis], out=diff)
         np.multiply(diff, diff, out=diff)
         total += diff
     return total
@@ -220,7 +224,7 @@ class RadioModel:
             near &= mask[:, None]
         s_idx, r_idx = np.nonzero(near)
         seq_arr = np.broadcast_to(np.asarray(seq, dtype=np.int64), (n,))
-        distance = self._distances(positions_m, s_idx, r_idx)
+        distance = self.link_distances(positions_m, s_idx, r_idx)
         delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_arr[s_idx], t_s, distance)
         return Transmission(s_idx.astype(np.int64), r_idx.astype(np.int64), delivered, delivery_t_s)
 
@@ -232,7 +236,7 @@ class RadioModel:
         n = np.asarray(positions_m).shape[0]
         ids = np.arange(n, dtype=np.int64) if vehicle_ids is None else np.asarray(vehicle_ids, dtype=np.int64)
         s_idx = np.full(r_idx.shape, sender_index, dtype=np.int64)
-        distance = self._distances(positions_m, s_idx, r_idx)
+        distance = self.link_distances(positions_m, s_idx, r_idx)
         delivered, delivery_t_s = self.link_fate(ids[sender_index], ids[r_idx], seq, t_s, distance)
         return Transmission(s_idx, r_idx.astype(np.int64), delivered, delivery_t_s)
 
@@ -260,12 +264,27 @@ class RadioModel:
         seq_k = np.broadcast_to(np.asarray(seq, dtype=np.int64), (k,))
         t_k = np.broadcast_to(np.asarray(t_s, dtype=float), (k,))
         clock_k = t_k if clock_t_s is None else np.broadcast_to(np.asarray(clock_t_s, dtype=float), (k,))
-        distance = self._distances(p, s_idx, r_idx)
+        distance = self.link_distances(p, s_idx, r_idx)
         delivered, delivery_t_s = self.link_fate(ids[s_idx], ids[r_idx], seq_k[m_idx], t_k[m_idx], distance,
                                                  clock_k[m_idx])
         return Transmission(s_idx, r_idx.astype(np.int64), delivered, delivery_t_s, m_idx.astype(np.int64))
 
-    def _distances(self, positions_m: ArrayLike, s_idx: NDArray[np.int64],
+    @property
+    def loses_packets(self) -> bool:
+        """Whether any loss term is on (otherwise every in-range link delivers and ``link_fate`` draws nothing)."""
+        return self.loss_probability > 0.0 or (self.burst is not None and self.burst_loss_probability > 0.0) or (
+            self.edge_loss_probability > 0.0)
+
+    def heard_by(self, positions_m: NDArray[np.float64], sender_rows: NDArray[np.int64]) -> NDArray[np.bool_]:
+        """(N, K): ``[j, k]`` is True when position row j hears a message from row ``sender_rows[k]`` (never the
+        sender itself): ``send_many``'s range gate, receiver-major. The same arithmetic: ``a - b`` is exactly
+        ``-(b - a)`` in floating point, so every squared distance, hence every decision, is the same."""
+        with np.errstate(invalid="ignore"):
+            near = squared_distances(positions_m, positions_m[sender_rows]) <= self.range_m * self.range_m
+        near[sender_rows, np.arange(sender_rows.size)] = False
+        return near
+
+    def link_distances(self, positions_m: ArrayLike, s_idx: NDArray[np.int64],
                    r_idx: NDArray[np.int64]) -> NDArray[np.float64] | None:
         """True distance of each (sender, receiver) row, computed only when the distance term is on."""
         if self.edge_loss_probability <= 0.0:

@@ -22,6 +22,8 @@ from comms.bundle_wire import encode_entries
 from comms.byte_budget import SenderBudgets
 from comms.messages import MAX_PAYLOAD_BYTES, DecodeStats, GroundTruth, NeighbourState, RadioLinkStats
 from comms.radio_groups import framed_group_bundles
+from comms.link_counters import LinkCounters
+from comms.radio_matrix import MAX_MATRIX_ID, MatrixBatch, framed_matrix_bundles, matrix_deliveries, padded_rows
 from comms.radio_model import GROUND_NODE_ID, RadioModel, Transmission
 from comms.signing import Verifier, unsigned_body
 
@@ -81,6 +83,10 @@ class RadioRelay:
         self.ground_node_enu_m = ground_node_enu_m  # the ground station's antenna: one more receiver, id 0
         self.verifier = verifier
         self._in_flight: list[tuple[np.ndarray, ...]] = []  # due, receiver id, sender id, payload, bundle entry, message
+        self._matrix_flight: list[MatrixBatch] = []  # batches due at one time each, in due order (no jitter)
+        self._matrix_rows = 0  # rows of a delivery matrix under the current truth (0: decide in rows)
+        self._positions_by_id = np.zeros((0, 3))  # the truth's positions by vehicle id (NaN: none), for matrices
+        self.links = LinkCounters()
         self._messages_decided = 0  # numbers the messages, so a group's bundle carries each one once
         self._in_flight_count = 0
         self._positions: np.ndarray | None = None
@@ -89,10 +95,6 @@ class RadioRelay:
         self._slot_of: dict[int, int] = {}  # vehicle id -> truth row, for vehicles alive in the newest truth
         self._last_seq: dict[int, tuple[int, float]] = {}  # sender -> (seq, t_s) of the last one accepted
         self.truth_t_s: float | None = None
-        self._link_delivered = np.zeros((0, 0), dtype=np.int64)
-        self._link_lost = np.zeros((0, 0), dtype=np.int64)
-        self._link_ids: list[int] = []
-        self._link_slot: dict[int, int] = {}
         self._link_slot_of_truth = np.zeros(0, dtype=np.int64)
         self._truth_layout: tuple[tuple[int, ...], bytes] | None = None  # vehicle ids and alive flags of the truth
 
@@ -112,13 +114,18 @@ class RadioRelay:
             vehicle_ids.append(GROUND_NODE_ID)
         alive = np.isfinite(self._positions).all(axis=1)
         layout = (tuple(vehicle_ids), alive.tobytes())
-        if layout == self._truth_layout:  # the same vehicles alive as in the last truth: the lookups still hold
-            return
-        self._truth_layout = layout
-        self._alive_count = int(np.count_nonzero(alive))
-        self._ids = np.asarray(vehicle_ids, dtype=np.int64)
-        self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids) if alive[i]}
-        self._link_slot_of_truth = np.array([self._link_index(int(v)) for v in vehicle_ids], dtype=np.int64)
+        if layout != self._truth_layout:  # other vehicles alive than in the last truth: new lookups
+            self._truth_layout = layout
+            self._alive_count = int(np.count_nonzero(alive))
+            self._ids = np.asarray(vehicle_ids, dtype=np.int64)
+            self._slot_of = {int(v): i for i, v in enumerate(truth.vehicle_ids) if alive[i]}
+            self._link_slot_of_truth = self.links.slots_of(vehicle_ids)
+            fits = len(set(vehicle_ids)) == len(vehicle_ids) and 0 <= min(vehicle_ids, default=-1)
+            fits = fits and max(vehicle_ids) <= MAX_MATRIX_ID
+            self._matrix_rows = padded_rows(max(vehicle_ids)) if fits else 0
+        if self._matrix_rows:
+            self._positions_by_id = np.full((self._matrix_rows, self._positions.shape[1]), np.nan)
+            self._positions_by_id[self._ids] = self._positions
 
     def on_state(self, key_vehicle_id: int | None, payload: bytes, now_s: float, now_us: int = 0) -> StateHeader | None:
         """Validate one agent message that arrived on ``key_vehicle_id``'s state key and queue it for ``flush``.
@@ -181,6 +188,10 @@ class RadioRelay:
         assert self._positions is not None
         slots, seqs, payload_list, rx_list, source_list = zip(*batch)
         slots_a = np.array(slots, dtype=np.int64)
+        if self._one_due_time(rx_list):
+            self._flush_matrix(slots_a, seqs, payload_list, rx_list[0], source_list)
+            return
+        self._rows_from_matrices()
         rx_s = np.array(rx_list, dtype=float)
         payloads = np.empty(len(batch), dtype=object)
         payloads[:] = payload_list
@@ -190,7 +201,7 @@ class RadioRelay:
         c = self.counters
         c.out_of_range += len(batch) * (self._alive_count - 1) - tx.receiver_index.size
         ok = tx.delivered
-        self._count_links(tx.sender_index, tx.receiver_index, ok)
+        self.links.add_rows(self._link_slot_of_truth[tx.sender_index], self._link_slot_of_truth[tx.receiver_index], ok)
         n_ok = int(np.count_nonzero(ok))
         c.delivered += n_ok
         c.lost += ok.size - n_ok
@@ -216,21 +227,80 @@ class RadioRelay:
         self._messages_decided += len(batch)
         self._in_flight_count += n_ok
 
-    def _count_links(self, sender_index: np.ndarray, receiver_index: np.ndarray, delivered: np.ndarray) -> None:
-        """Per-link delivered / lost counters, indexed by the flattened (sender, receiver) cell (numpy's fast path
-        for ``add.at`` is one-dimensional: a sixth of the two-index form's cost)."""
-        size = self._link_delivered.shape[0]
-        cell = self._link_slot_of_truth[sender_index] * size + self._link_slot_of_truth[receiver_index]
-        if delivered.all():
-            np.add.at(self._link_delivered.reshape(-1), cell, 1)
+    def _one_due_time(self, rx_list: tuple[float, ...]) -> bool:
+        """Whether a batch can be held as one ``MatrixBatch``: one delay for every link (no jitter), one arrival
+        time, due no earlier than the batches before it, nothing held in rows, ids that fit a matrix."""
+        if self.radio.jitter_s > 0.0 or self._matrix_rows == 0 or self._in_flight:
+            return False
+        rx = rx_list[0]
+        if rx_list.count(rx) != len(rx_list):
+            return False
+        return not self._matrix_flight or rx + self.radio.latency_s / self.speed >= self._matrix_flight[-1].due_s
+
+    def _flush_matrix(self, slots: np.ndarray, seqs: tuple[int, ...], payload_list: tuple[bytes, ...], rx_s: float,
+                      source_list: tuple[float, ...]) -> None:
+        """``flush`` of a batch due at one time: the same gate, draws and counters as the row form (``send_many``),
+        held as a (receiver id × message) matrix (:mod:`comms.radio_matrix`)."""
+        k = slots.size
+        radio, positions, sender_ids = self.radio, self._positions_by_id, self._ids[slots]
+        delivered = radio.heard_by(positions, sender_ids)
+        in_range = int(np.count_nonzero(delivered))
+        c = self.counters
+        c.out_of_range += k * (self._alive_count - 1) - in_range
+        n_ok = in_range
+        lost_senders = lost_receivers = None
+        if radio.loses_packets and in_range:
+            receivers, messages = np.nonzero(delivered)
+            senders = sender_ids[messages]
+            ok, _ = radio.link_fate(senders, receivers, np.array(seqs, dtype=np.int64)[messages], 0.0,
+                                    radio.link_distances(positions, senders, receivers),
+                                    np.array(source_list, dtype=float)[messages])
+            lost = ~ok
+            delivered[receivers[lost], messages[lost]] = False
+            lost_senders, lost_receivers = senders[lost], receivers[lost]
+            n_ok = in_range - lost_senders.size
+        self.links.note_matrix(sender_ids, delivered, lost_senders, lost_receivers)
+        c.delivered += n_ok
+        c.lost += in_range - n_ok
+        room = self.max_in_flight - self._in_flight_count
+        if n_ok > room:
+            c.queue_overflow += n_ok - max(room, 0)
+            delivered = self._first_deliveries(delivered, max(room, 0))
+            n_ok = max(room, 0)
+        if n_ok == 0:
             return
-        np.add.at(self._link_delivered.reshape(-1), cell[delivered], 1)
-        np.add.at(self._link_lost.reshape(-1), cell[~delivered], 1)
+        payloads = np.empty(k, dtype=object)
+        payloads[:] = payload_list
+        entries = np.empty(k, dtype=object)
+        entries[:] = encode_entries(sender_ids.tolist(), payload_list)
+        self._matrix_flight.append(MatrixBatch(rx_s + radio.latency_s / self.speed, delivered, sender_ids, payloads,
+                                               entries, self._messages_decided, n_ok))
+        self._messages_decided += k
+        self._in_flight_count += n_ok
+
+    def _first_deliveries(self, delivered: np.ndarray, keep: int) -> np.ndarray:
+        """Only the first ``keep`` deliveries in the row form's order (message, then truth row)."""
+        receivers, messages = np.nonzero(delivered)
+        row_of_id = np.zeros(delivered.shape[0], dtype=np.int64)
+        row_of_id[self._ids] = np.arange(self._ids.size)
+        order = np.lexsort((row_of_id[receivers], messages))[:keep]
+        kept = np.zeros_like(delivered)
+        kept[receivers[order], messages[order]] = True
+        return kept
+
+    def _rows_from_matrices(self) -> None:
+        """Hand the matrix batches in flight to the row form (before a batch that must be held in rows)."""
+        self._in_flight[:0] = [batch.as_rows() for batch in self._matrix_flight]
+        self._matrix_flight = []
 
     # ---- outputs
     def pop_due(self, now_s: float) -> dict[int, list[tuple[int, bytes]]]:
         """Flush, then the messages to hand over now, by receiver id: {receiver: [(sender_id, payload), ...]}
         in delivery-time order."""
+        self.flush()
+        if not self._in_flight:
+            batches = self._take_matrices(now_s)
+            return matrix_deliveries(batches) if batches else {}
         ready = self._take_ready(now_s, (_SENDER, _PAYLOAD))
         if ready is None:
             return {}
@@ -244,11 +314,25 @@ class RadioRelay:
         """What ``pop_due`` hands over, as one encoded ``RadioGroupBundle`` stamped ``t_s`` per group of receivers
         (:mod:`comms.radio_groups`): [(group, bytes), ...]. The entries were encoded once per message in ``flush``
         and are only framed here."""
+        self.flush()
+        if not self._in_flight:
+            batches = self._take_matrices(now_s)
+            return framed_matrix_bundles(t_s, batches) if batches else []
         ready = self._take_ready(now_s, (_ENTRY, _MESSAGE))
         if ready is None:
             return []
         receivers, columns = ready
         return framed_group_bundles(t_s, receivers, columns[_MESSAGE], columns[_ENTRY])
+
+    def _take_matrices(self, now_s: float) -> list[MatrixBatch]:
+        """The matrix batches due by ``now_s``, out of flight (a prefix: they are in due order)."""
+        flight = self._matrix_flight
+        ready = 0
+        while ready < len(flight) and flight[ready].due_s <= now_s:
+            ready += 1
+        taken, self._matrix_flight = flight[:ready], flight[ready:]
+        self._in_flight_count -= sum(batch.count for batch in taken)
+        return taken
 
     def _take_ready(self, now_s: float, wanted: tuple[int, ...]) -> tuple[np.ndarray, dict[int, np.ndarray]] | None:
         """Flush, then take the in-flight messages due by ``now_s`` out of flight, sorted by receiver then due
@@ -283,33 +367,15 @@ class RadioRelay:
         if self._batch:
             return float("-inf")
         if not self._in_flight:
-            return None
+            return self._matrix_flight[0].due_s if self._matrix_flight else None
         return float(min(chunk[0].min() for chunk in self._in_flight))
 
     def link_stats(self, t_s: float) -> RadioLinkStats:
         """Counters as a message (after deciding queued messages); ``links``: every (sender, receiver) pair with traffic."""
         self.flush()
-        s_idx, r_idx = np.nonzero((self._link_delivered + self._link_lost) > 0)
-        ids = np.asarray(self._link_ids, dtype=np.int64)
-        links = np.stack([ids[s_idx], ids[r_idx], self._link_delivered[s_idx, r_idx], self._link_lost[s_idx, r_idx]],
-                         axis=1).tolist()
+        links = self.links.links()
         c = self.counters
         return RadioLinkStats(
             t_s=t_s, messages_in=c.messages_in, delivered=c.delivered, lost=c.lost,
             out_of_range=c.out_of_range, rejected=c.rejected, links=links,
         )
-
-    def _link_index(self, vehicle_id: int) -> int:
-        slot = self._link_slot.get(vehicle_id)
-        if slot is None:
-            slot = len(self._link_ids)
-            self._link_slot[vehicle_id] = slot
-            self._link_ids.append(vehicle_id)
-            if slot >= self._link_delivered.shape[0]:
-                size = max(16, 2 * slot)
-                for name in ("_link_delivered", "_link_lost"):
-                    old = getattr(self, name)
-                    grown = np.zeros((size, size), dtype=np.int64)
-                    grown[: old.shape[0], : old.shape[1]] = old
-                    setattr(self, name, grown)
-        return slot
