@@ -6,8 +6,8 @@ process that owns the truth stream and every link also gives one place for seede
 counters, and the agents stay unchanged for a real deployment (there the emulator is simply not started and
 agents subscribe to each other's public state keys, see ``comms.swarm_link``).
 
-Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioModel.send_many`` (one batch
-per tick) on the latest ``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> held in flight (latency/jitter) -> one
+Data path: agent -> ``floodwatch/<m>/uav/<id>/state`` (public) -> emulator -> ``RadioRelay.flush`` (one batch per
+tick, ``RadioModel.send_many``'s gate and draws) on the latest ``GroundTruth`` (``floodwatch/<m>/sim/truth``) -> held in flight (latency/jitter) -> one
 ``RadioGroupBundle`` per group of receivers per tick on ``floodwatch/<m>/radio/group/<g>``, each receiver's
 selection inside it (:mod:`comms.radio_groups`), framed from entries encoded once per message.
 

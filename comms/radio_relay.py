@@ -1,8 +1,10 @@
 """The radio emulator's logic without Zenoh or clocks: range gate, loss and delay for a stream of agent states.
 
 Each agent's state is validated on arrival (``on_state``), the fates of everything received in a tick are decided
-at once on the simulator's TRUE positions (``flush``: one vectorised ``RadioModel.send_many``), the survivors are
-held in flight, and ``pop_due`` hands out what is due, grouped by receiver.
+at once on the simulator's TRUE positions (``flush``: ``RadioModel.send_many``'s range gate and draws), the survivors
+are held in flight, and ``pop_due`` hands out what is due, grouped by receiver. Without jitter a tick's batch is due
+at one time and is held as one (receiver id × message) matrix (:mod:`comms.radio_matrix`); otherwise as one row per
+delivery. Both hand out the same deliveries in the same order (tested).
 
 Cost per message is what limits a large fleet: at 300 drones × 20 Hz the emulator takes 6000 states and hands out
 about 100 000 copies per second. So a state is read only as far as the radio needs it (:class:`StateHeader`: sender,
