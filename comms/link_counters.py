@@ -68,10 +68,10 @@ class LinkCounters:
             cells = np.flatnonzero(matrix)
             receivers = cells // senders.size
             counted = slot_of[senders[cells - receivers * senders.size]] * size + slot_of[receivers]
-            self.delivered.reshape(-1)[:] += np.bincount(counted, minlength=size * size)
+            np.add.at(self.delivered.reshape(-1), counted, 1)  # no size² temporary: a long list of cells is cheap
         if self._noted_lost:
             lost_cells = np.concatenate([slot_of[s] * size + slot_of[r] for s, r in self._noted_lost])
-            self.lost.reshape(-1)[:] += np.bincount(lost_cells, minlength=size * size)
+            np.add.at(self.lost.reshape(-1), lost_cells, 1)
         self._noted, self._noted_lost = [], []
 
     def links(self) -> list[list[int]]:
