@@ -176,7 +176,8 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
     """
     obstacles = yielded_to(role, heard)
     ids = {n.vehicle_id for n in obstacles}
-    giving_way = [n for n in heard if n.vehicle_id not in ids]
+    yields = np.array([n.vehicle_id not in ids for n in heard], dtype=bool)
+    heard_en_m = predicted_positions_en_m(heard)
     brake = params.safety_braking_mps2
     reaction = params.safety_reaction_s
     horizon_speed_mps = 2.0 * params.max_speed_mps
@@ -184,16 +185,16 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
     last_resort_radius_m = max(params.safety_min_distance_m,
                                braking_horizon_m(last_resort_m, horizon_speed_mps, brake, reaction))
     v = np.asarray(velocity_en_mps, dtype=float)
-    if giving_way:
-        v = safety_filter(v, own_en_m, predicted_positions_en_m(giving_way), last_resort_m, last_resort_radius_m,
+    if yields.any():
+        v = safety_filter(v, own_en_m, heard_en_m[yields], last_resort_m, last_resort_radius_m,
                           params.safety_closing_rate_per_s, braking_mps2=brake, reaction_s=reaction)
     if obstacles:
         others_v = np.array([n.velocity_en_mps for n in obstacles], dtype=float).reshape(-1, 2)
-        v = safety_filter(v, own_en_m, predicted_positions_en_m(obstacles), params.safety_min_distance_m,
+        v = safety_filter(v, own_en_m, heard_en_m[~yields], params.safety_min_distance_m,
                           max(params.safety_radius_m,
                               braking_horizon_m(params.safety_min_distance_m, horizon_speed_mps, brake, reaction)),
                           params.safety_closing_rate_per_s, others_v, braking_mps2=brake, reaction_s=reaction)
-        if giving_way:
-            v = safety_filter(v, own_en_m, predicted_positions_en_m(heard), last_resort_m, last_resort_radius_m,
+        if yields.any():
+            v = safety_filter(v, own_en_m, heard_en_m, last_resort_m, last_resort_radius_m,
                               params.safety_closing_rate_per_s, braking_mps2=brake, reaction_s=reaction)
     return v
