@@ -46,6 +46,13 @@ class Heightmap:
         row = -(p[..., 1] - self.center_en_m[1]) / self.cell_m + rows / 2.0 - 0.5
         return col, row
 
+    def point_coordinates(self, east_m: float, north_m: float) -> tuple[float, float]:
+        """:meth:`grid_coordinates` of one point in the same arithmetic on plain floats (no array round trip: the
+        camera asks for one point per frame)."""
+        rows, cols = self.shape
+        cx, cy = self.center_en_m
+        return ((east_m - cx) / self.cell_m + cols / 2.0 - 0.5, -(north_m - cy) / self.cell_m + rows / 2.0 - 0.5)
+
     def cell_centres_en_m(self, rows_idx: ArrayLike, cols_idx: ArrayLike) -> NDArray[np.float64]:
         """(…, 2) east/north [m] of cell centres at (possibly fractional) grid indices."""
         rows, cols = self.shape

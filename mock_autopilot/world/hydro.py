@@ -101,16 +101,9 @@ class HydroFlood:
         (e0, n0), (e_col, n_col) = points_en_m[0, 0].tolist(), points_en_m[0, min(w - 1, 1)].tolist()
         e_row, n_row = points_en_m[min(h - 1, 1), 0].tolist()
         cell = self.grid.cell_m
-        c0, r0 = self._point_coordinates(e0, n0)
+        c0, r0 = self.grid.point_coordinates(e0, n0)
         return np.array([[(e_col - e0) / cell, (e_row - e0) / cell, c0],
                          [-(n_col - n0) / cell, -(n_row - n0) / cell, r0]])
-
-    def _point_coordinates(self, east_m: float, north_m: float) -> tuple[float, float]:
-        """``grid.grid_coordinates`` of one point, in the same arithmetic on plain floats."""
-        rows, cols = self.grid.shape
-        cx, cy = self.grid.center_en_m
-        return ((east_m - cx) / self.grid.cell_m + cols / 2.0 - 0.5,
-                -(north_m - cy) / self.grid.cell_m + rows / 2.0 - 0.5)
 
     def flow_raster_mps(self, t_s: float) -> NDArray[np.float32]:
         """(rows, cols, 2) surface flow velocity [m/s; east, north] of the recorded frame nearest ``t_s``, estimated
@@ -134,7 +127,7 @@ class HydroFlood:
     def flow_at_mps(self, point_en_m: ArrayLike, t_s: float) -> tuple[float, float]:
         """Surface flow velocity [m/s; east, north] in the raster cell holding one point (zero off the domain)."""
         east, north = (float(v) for v in np.asarray(point_en_m, float).reshape(-1)[:2])
-        col, row = self._point_coordinates(east, north)
+        col, row = self.grid.point_coordinates(east, north)
         rows, cols = self.grid.shape
         c, r = int(round(col)), int(round(row))
         if not (0 <= c < cols and 0 <= r < rows):

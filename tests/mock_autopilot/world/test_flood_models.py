@@ -183,3 +183,11 @@ def test_fractal_terrain_is_one_irregular_water_body_with_islands_for_some_seeds
             holes = [c for c, h in zip(contours, hierarchy[0]) if h[3] >= 0 and cv2.contourArea(c) > 4.0]
             seeds_with_islands += bool(holes)
     assert seeds_with_islands >= 1
+
+
+def test_a_single_points_grid_coordinates_are_the_arrays_to_the_last_bit() -> None:
+    grid = Heightmap(np.zeros((37, 52), np.float32), 0.7, (3.25, -11.5))
+    rng = np.random.default_rng(5)
+    for east, north in rng.uniform(-40.0, 40.0, (200, 2)).tolist():
+        col, row = grid.grid_coordinates(np.array([east, north]))
+        assert grid.point_coordinates(east, north) == (float(col), float(row))
