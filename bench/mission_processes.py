@@ -48,6 +48,9 @@ from gcs.processes.ground_station import GroundStation  # noqa: E402
 from gcs.scenario import load_scenario  # noqa: E402
 
 _CLK_TCK = os.sysconf("SC_CLK_TCK")
+BASE_PORT = 27000
+GCS_PORT = 27900
+ZENOH_ENDPOINT = "tcp/127.0.0.1:27960"
 _RATE_RE = re.compile(r"(\d+) control steps \(([\d.]+|nan) Hz mission time\), (\d+) overruns")
 _FRAMES_RE = re.compile(r"camera frame rate ([\d.]+|nan) Hz per airborne vehicle \(nominal ([\d.]+) Hz")
 _AGE_RE = re.compile(r"setpoint age at the autopilot \[mission s\]: p50 ([\d.]+) p99 ([\d.]+) max ([\d.]+)")
@@ -72,14 +75,21 @@ def rss_mb(pid: int) -> float | None:
 
 
 def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, duration_s: float, out_dir: Path,
-             mode: str, gdb_labels: bool = False, clock: str = "paced") -> dict[str, object]:
+             mode: str, gdb_labels: bool = False, clock: str = "paced", idle_s: float = 0.0,
+             startup_timeout_s: float = 180.0) -> dict[str, object]:
     """Fly one mission and measure it; ``gdb_labels`` names MAVSDK's unnamed threads from one agent's stacks,
-    read during take-off (gdb pauses that agent for about a second, outside the measured MISSION phase)."""
+    read during take-off (gdb pauses that agent for about a second, outside the measured MISSION phase).
+
+    ``idle_s`` > 0 (paced clock): first hold the clock for that many wall seconds once the MISSION phase has begun
+    and measure what every process costs while nothing moves (``bench/agent_idle_cost.py``); the per-tick window
+    starts after it. The agent timeout is then longer than the hold, so the holding participant is never left behind.
+    """
     scenario = load_scenario(scenario_name, overrides)
+    agent_timeout_s = max(2.0, idle_s + 30.0) if idle_s > 0 else 2.0
     options = ProcessOptions(scenario_arg=scenario_name, overrides=overrides, mode=mode, speed=speed,
-                             duration_s=duration_s, out_dir=out_dir, mission="bench", mavlink_base_port=27000,
-                             gcs_port=27900, zenoh_endpoint="tcp/127.0.0.1:27960", live=False,
-                             startup_timeout_s=180.0, clock=clock)
+                             duration_s=duration_s, out_dir=out_dir, mission="bench", mavlink_base_port=BASE_PORT,
+                             gcs_port=GCS_PORT, zenoh_endpoint=ZENOH_ENDPOINT, live=False,
+                             startup_timeout_s=startup_timeout_s, clock=clock, agent_timeout_s=agent_timeout_s)
     out_dir.mkdir(parents=True, exist_ok=True)
     station = GroundStation(scenario, options, out_dir)
     result: dict[str, int] = {}
@@ -96,10 +106,13 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     mission_wall = [0.0, 0.0]
     mission_span_s: dict[str, list[float]] = {}
     gcs_pid = os.getpid()
+    idle: dict[str, object] = {}
     while thread.is_alive():
         time.sleep(0.25)
         pids = {c.name: c.pid for c in station.supervisor.children}
         pids["gcs"] = gcs_pid
+        if idle_s > 0 and not idle and station.phase == "mission":
+            idle = hold_and_measure_idle(pids, idle_s, len(scenario.vehicles))
         if gdb_labels and gdb_thread is None and station.phase == "takeoff":
             first_agent = min((n for n in pids if n.startswith("agent_")), default=None)
             if first_agent is not None:
@@ -173,6 +186,7 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     agent_cpu = [v for k, v in cpu_pct.items() if k.startswith("agent_")]
     agent_rss = [v for k, v in peak_rss.items() if k.startswith("agent_")]
     return {
+        **idle,
         "speed": speed,
         "vehicles": len(scenario.vehicles),
         "exit_code": result.get("code"),
@@ -210,6 +224,25 @@ def run_once(scenario_name: str, overrides: tuple[str, ...], speed: float, durat
     }
 
 
+def hold_and_measure_idle(pids: dict[str, int], idle_s: float, vehicles: int) -> dict[str, object]:
+    """Close the paced clock's gate, measure every process for ``idle_s`` wall seconds, open it again."""
+    from bench.agent_idle_cost import LoopbackTraffic, PaceGate, measure_idle  # noqa: PLC0415 - idle runs only
+    from mock_autopilot.ports import onboard_port  # noqa: PLC0415
+
+    gate = PaceGate(ZENOH_ENDPOINT, "bench")
+    try:
+        held_at = gate.close_gate()
+        time.sleep(2.0)  # the clock reaches the held tick and the agents answer it
+        traffic = LoopbackTraffic(frozenset(onboard_port(BASE_PORT, i, GCS_PORT) for i in range(vehicles)), GCS_PORT,
+                                  int(ZENOH_ENDPOINT.rsplit(":", 1)[1]))
+        row = measure_idle(pids, idle_s, traffic)
+        row["idle_held_at_t_s"] = held_at
+        gate.open_gate()
+    finally:
+        gate.close()
+    return row
+
+
 def holds(row: dict[str, object]) -> bool:
     """The mission held its speed: it completed, every agent ran at >= 90 % of the nominal control rate, the
     simulator delivered >= 90 % of the nominal camera frames, and mission time ran at >= 90 % of the speed asked
@@ -232,6 +265,8 @@ def main() -> int:
     p.add_argument("--gdb-labels", action="store_true", help="split MAVSDK's unnamed threads by their native stacks "
                    "(gdb pauses one agent for about a second during take-off)")
     p.add_argument("--clock", choices=("paced", "free"), default="paced")
+    p.add_argument("--idle-s", type=float, default=0.0, help="paced clock: first hold the clock this many wall "
+                   "seconds (< 60) and report what each agent costs while nothing moves (bench/agent_idle_cost.py)")
     p.add_argument("--out", type=Path, default=Path("runs/bench-processes"))
     args = p.parse_args()
     common = tuple(args.overrides)
@@ -245,7 +280,7 @@ def main() -> int:
     for speed, overrides in runs:
         tag = f"x{speed:g}" + ("-" + "-".join(o.split("=")[1] for o in overrides) if overrides else "")
         row = run_once(args.scenario, common + overrides, speed, args.duration, args.out / tag, args.mode,
-                       gdb_labels=args.gdb_labels, clock=args.clock)
+                       gdb_labels=args.gdb_labels, clock=args.clock, idle_s=args.idle_s)
         row["holds"] = holds(row)
         rows.append(row)
         print(json.dumps(row), flush=True)

@@ -8,48 +8,49 @@ then SIGKILLs what is left; it runs on every exit path (the supervisor is a cont
 
 from __future__ import annotations
 
-import ctypes
 import os
 import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
-_PR_SET_PDEATHSIG = 1
-
-
-def _die_with_parent() -> None:
-    """preexec_fn: SIGTERM this child when the process that started it dies (Linux prctl; a no-op elsewhere)."""
+_CHILD_BOOT = """
+import ctypes, os, runpy, sys
+parent, niceness = int(sys.argv[1]), int(sys.argv[2])
+try:
+    ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, 15)
+except OSError:
+    pass
+if os.getppid() != parent:
+    sys.exit(143)
+if niceness:
+    os.nice(niceness)
     try:
-        libc = ctypes.CDLL("libc.so.6", use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+        with open("/proc/self/autogroup", "w") as autogroup:
+            autogroup.write(str(niceness))
     except OSError:
         pass
+sys.argv = sys.argv[3:]
+runpy.run_module(sys.argv[0], run_name="__main__", alter_sys=True)
+"""
+"""What a child runs first, in its own interpreter, before its module (as ``python -m`` would run it): ask the
+kernel for SIGTERM when the parent dies (``prctl(PR_SET_PDEATHSIG)``; exit at once if the parent is already gone),
+then lower the CPU priority by ``niceness``. The child runs in its own session, and Linux schedules sessions as
+autogroups that share the CPU equally whatever their processes' nice values; so the autogroup's nice is lowered too
+(``/proc/self/autogroup``), or a busy machine would give each of 13 agents as much CPU as the simulator.
+
+This runs after ``exec``, never between ``fork`` and ``exec`` (a ``preexec_fn``): the ground station has Zenoh's
+threads calling into Python, and a child forked while one of them held the interpreter's thread-state lock hung
+forever in ``PyOS_AfterFork_Child`` before running anything (seen while starting the 13th agent of a mission)."""
 
 
-def _child_setup(niceness: int) -> Callable[[], None]:
-    """preexec_fn: die with the parent, then lower the CPU priority by ``niceness``.
-
-    The child runs in its own session, and Linux schedules sessions as autogroups that share the CPU equally
-    whatever their processes' nice values; so the autogroup's nice is lowered too (``/proc/self/autogroup``),
-    or a busy machine would give each of 13 agents as much CPU as the simulator.
-    """
-
-    def setup() -> None:
-        _die_with_parent()
-        if niceness:
-            os.nice(niceness)
-            try:
-                with open("/proc/self/autogroup", "w") as autogroup:
-                    autogroup.write(str(niceness))
-            except OSError:
-                pass
-
-    return setup
+def child_command(module_args: list[str], niceness: int = 0, parent_pid: int | None = None) -> list[str]:
+    """The command line of a child running ``python -m <module_args...>`` after :data:`_CHILD_BOOT`."""
+    parent = os.getpid() if parent_pid is None else parent_pid
+    return [sys.executable, "-c", _CHILD_BOOT, str(parent), str(int(niceness)), *module_args]
 
 
 @dataclass
@@ -96,12 +97,11 @@ class Supervisor:
         if env:
             child_env.update(env)
         process = subprocess.Popen(
-            [sys.executable, "-m", *module_args],
+            child_command(module_args, niceness),
             stdout=log,
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
             start_new_session=True,
-            preexec_fn=_child_setup(niceness),
             env=child_env,
         )
         child = Child(name, process, log_path)
