@@ -48,6 +48,9 @@ _MAVLINK2_STX = 0xFD
 _MAVLINK2_HEADER = 10
 _MAVLINK2_CRC = 2
 _MAVLINK2_SIGNATURE = 13
+_COMMAND_LONG = 76
+_COMMAND_FIELD = 28
+"""Offset of COMMAND_LONG's ``command`` in its payload (seven float params first)."""
 
 
 class PaceGate:
@@ -97,6 +100,8 @@ class LoopbackTraffic:
     zenoh_port: int
     mavlink: Counter[tuple[str, int]] = field(default_factory=Counter)
     """(direction, MAVLink message id) -> frames."""
+    commands: Counter[tuple[str, int, float]] = field(default_factory=Counter)
+    """(direction, MAV_CMD of a COMMAND_LONG, its param1) -> frames."""
     datagrams: Counter[str] = field(default_factory=Counter)
     tcp_segments: Counter[str] = field(default_factory=Counter)
     _stop: threading.Event = field(default_factory=threading.Event)
@@ -168,6 +173,11 @@ class LoopbackTraffic:
             length, incompat = payload[i + 1], payload[i + 2]
             msg_id = payload[i + 7] | payload[i + 8] << 8 | payload[i + 9] << 16
             self.mavlink[(direction, msg_id)] += 1
+            if msg_id == _COMMAND_LONG and length >= _COMMAND_FIELD + 2:
+                at = i + _MAVLINK2_HEADER
+                param1 = struct.unpack_from("<f", payload, at)[0]
+                command = payload[at + _COMMAND_FIELD] | payload[at + _COMMAND_FIELD + 1] << 8
+                self.commands[(direction, command, param1)] += 1
             i += _MAVLINK2_HEADER + length + _MAVLINK2_CRC + (_MAVLINK2_SIGNATURE if incompat & 1 else 0)
 
     def rates(self) -> dict[str, float]:
@@ -179,6 +189,9 @@ class LoopbackTraffic:
         for (direction, msg_id), n in sorted(self.mavlink.items()):
             name = mavlink.mavlink_map[msg_id].msgname if msg_id in mavlink.mavlink_map else f"id {msg_id}"
             out[f"mavlink {direction} {name}"] = n / wall_s
+        commands = {v: k for k, v in vars(mavlink).items() if k.startswith("MAV_CMD_") and isinstance(v, int)}
+        for (direction, command, param1), n in sorted(self.commands.items()):
+            out[f"mavlink {direction} COMMAND_LONG {commands.get(command, command)} ({param1:g})"] = n / wall_s
         for direction, n in sorted(self.datagrams.items()):
             out[f"datagrams {direction}"] = n / wall_s
         for direction, n in sorted(self.tcp_segments.items()):

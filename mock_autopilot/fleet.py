@@ -174,6 +174,10 @@ class Fleet:
         self._thread = None
         for i, counters in self.drop_counters().items():
             log.info("system %d drops: %s", i, counters)
+        skipped = sum(link.repeated_setpoints.skipped for links in self.links for link in links.values()
+                      if link.repeated_setpoints is not None)
+        if self.paced:
+            log.info("re-sent setpoints skipped while the paced clock stood still: %d", skipped)
 
     def _thread_main(self) -> None:
         loop = asyncio.new_event_loop()
@@ -224,7 +228,8 @@ class Fleet:
             if self.signing_key is not None and (sign_cfg == 2 or (sign_cfg == 1 and name == GCS)):
                 signing = SigningState(self.signing_key, required=True, link_id=LINKS.index(name))
             codec = LinkCodec(vehicle.system_id, 1, signing)
-            link = UdpLink(name, codec, remotes[name], self.clock, self._make_sink(i))
+            link = UdpLink(name, codec, remotes[name], self.clock, self._make_sink(i),
+                           skip_repeated_setpoints=self.paced and name == ONBOARD)
             links[name] = link
             await link.open((self.hosts.bind_host, local_ports[name]))
         return links

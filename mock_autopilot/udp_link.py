@@ -13,6 +13,10 @@ A link starts by sending to its configured remote (PX4 SITL: 127.0.0.1:14540+i f
   heartbeats can still take the link, exactly as with PX4; MAVLink 2 signing on the GCS link is the defence.
 
 Fault injection (drop, delay) sits here because it is about the wire.
+
+With ``skip_repeated_setpoints`` (the onboard link of a paced fleet) a datagram from the peer that only repeats the
+setpoint the link handled last, at the same simulated time, is counted and not decoded
+(:mod:`mock_autopilot.repeated_setpoint`): MAVSDK's 20 Hz re-sends while the clock waits for a slow agent.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ from typing import Callable
 
 from mock_autopilot.clock import SimClock
 from mock_autopilot.mavlink_codec import LinkCodec
+from mock_autopilot.repeated_setpoint import RepeatedSetpoints, setpoint_content
 from pymavlink.dialects.v20 import common as mavlink
 
 log = logging.getLogger(__name__)
@@ -36,7 +41,8 @@ MessageSink = Callable[[str, mavlink.MAVLink_message], None]
 class UdpLink(asyncio.DatagramProtocol):
     """One vehicle's link: datagrams in -> codec -> ``on_message``; ``send`` -> codec -> datagrams out."""
 
-    def __init__(self, name: str, codec: LinkCodec, remote: Address, clock: SimClock, on_message: MessageSink) -> None:
+    def __init__(self, name: str, codec: LinkCodec, remote: Address, clock: SimClock, on_message: MessageSink,
+                 skip_repeated_setpoints: bool = False) -> None:
         self.name = name
         self.codec = codec
         self.peer: Address = remote
@@ -54,6 +60,7 @@ class UdpLink(asyncio.DatagramProtocol):
         self.received_datagrams = 0
         self.send_errors = 0
         self.peer_changes = 0
+        self.repeated_setpoints = RepeatedSetpoints() if skip_repeated_setpoints else None
 
     @property
     def local_address(self) -> Address:
@@ -89,8 +96,14 @@ class UdpLink(asyncio.DatagramProtocol):
         self._process(data, addr)
 
     def _process(self, data: bytes, addr: tuple) -> None:
-        parsed = self.codec.parse_datagram(data, self.clock.unix_time_s())
         source: Address = (addr[0], addr[1])
+        repeated = self.repeated_setpoints
+        if repeated is not None and self.peer_confirmed and source == self.peer:
+            content, t_s = setpoint_content(data), self.clock.now_s()
+            if repeated.repeats(content, t_s):
+                return
+            repeated.handled(content, t_s)
+        parsed = self.codec.parse_datagram(data, self.clock.unix_time_s())
         if parsed.vouched:
             if source == self.peer:
                 self.peer_confirmed = True

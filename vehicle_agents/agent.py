@@ -58,8 +58,10 @@ EXIT_OK = 0
 EXIT_LINK_LOST = 3
 EXIT_START_FAILED = 4
 _RETRY_COOLDOWN_S = 1.0
-_CLOCK_POLL_S = 0.2
-"""Paced clock: how often [wall s] a wait for the next clock tick looks at the stop flag."""
+_CLOCK_POLL_S = 1.0
+"""Paced clock: how often [wall s] a wait for the next clock tick looks at the stop flag. Each look is a wake-up of
+the agent's main thread while the clock stands still, so on a starved host (hundreds of agents waiting) it is one
+of the few things an idle agent does; a stop is then noticed within a second, well inside the supervisor's grace."""
 _COMMANDS = {"start": Command.START, "resume": Command.START, "hold": Command.HOLD, "land": Command.LAND,
              "abort": Command.LAND}
 
