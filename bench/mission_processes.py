@@ -237,6 +237,8 @@ def hold_and_measure_idle(pids: dict[str, int], idle_s: float, vehicles: int) ->
                                   int(ZENOH_ENDPOINT.rsplit(":", 1)[1]))
         row = measure_idle(pids, idle_s, traffic)
         row["idle_held_at_t_s"] = held_at
+        row["idle_agent_ms_per_s"] = row["idle_agent_cpu_ms_per_s"].get("total", float("nan"))  # type: ignore[union-attr]
+        row["idle_sim_ms_per_s"] = row["idle_service_cpu_ms_per_s"].get("sim", float("nan"))  # type: ignore[union-attr]
         gate.open_gate()
     finally:
         gate.close()
@@ -287,7 +289,8 @@ def main() -> int:
         if sizes and not row["holds"]:
             break  # fleet scaling: sizes go up, the first one that does not hold ends the search
     keys = ["speed", "vehicles", "exit_code", "holds", "real_time_factor", "rate_min_hz", "rate_median_hz", "camera_hz", "setpoint_age_p50_s",
-            "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_ms_per_tick", "agent_rss_mb_median",
+            "setpoint_age_p99_s", "agent_cpu_pct_median", "agent_ms_per_tick", "idle_agent_ms_per_s", "idle_sim_ms_per_s",
+            "agent_rss_mb_median",
             "agent_pss_mb_median", "sim_cpu_pct", "sim_rss_mb",
             "cameras_cpu_pct", "radio_cpu_pct", "gcs_cpu_pct", "total_cpu_pct", "polygon_iou_final", "coverage_final",
             "min_pairwise_distance_m"]
