@@ -60,6 +60,7 @@ class MissionChildren:
         self.key_path: Path | None = None
         self.mission_key: MissionKey | None = None
         self._fleet_size = len(scenario.vehicles)
+        self._agent_niceness: dict[int, int] = {}
 
     @staticmethod
     def max_connecting() -> int:
@@ -91,22 +92,37 @@ class MissionChildren:
 
     def start_agents(self, connected: Container[int]) -> list[int]:
         """Start the next agents while fewer than :meth:`max_connecting` are still connecting (not in
-        ``connected``); returns the ids started."""
+        ``connected``); returns the ids started.
+
+        Each agent's nice follows the agents started so far, not the whole fleet (``agent_niceness``: all of them
+        together weigh about four simulator processes): the first agents of a 208-vehicle fleet at the nice the
+        whole fleet gets (18) would weigh 8 x 18 / 1024 of one process against a busy host and not even finish
+        their imports. As more start, those already running are lowered to the same nice."""
         connecting = sum(1 for vid in self.agents if vid not in connected)
         started: list[int] = []
         while self.to_start and connecting < self.max_connecting():
             vid = self.to_start.pop(0)
+            niceness = agent_niceness(len(self.agents) + 1)
             self.agents[vid] = self.supervisor.start(
                 f"agent_{vid}", agent_command(self.options, vid, self._plans[vid], self._fleet_size),
-                niceness=agent_niceness(self._fleet_size),
+                niceness=niceness,
             )
+            self._agent_niceness[vid] = niceness
             connecting += 1
             started.append(vid)
         if started:
+            self._lower_earlier_agents(agent_niceness(len(self.agents)))
             self._write_pids()
             if not self.to_start:
                 self.events(f"all {len(self.agents)} agents started")
         return started
+
+    def _lower_earlier_agents(self, niceness: int) -> None:
+        """Give every running agent started at a higher priority the nice of the fleet started so far."""
+        for vid, child in self.agents.items():
+            if self._agent_niceness.get(vid, niceness) < niceness and child.exit_code() is None:
+                if self.supervisor.lower_priority(child, niceness):
+                    self._agent_niceness[vid] = niceness
 
     @property
     def expected_agents(self) -> list[int]:

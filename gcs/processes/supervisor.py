@@ -108,6 +108,15 @@ class Supervisor:
         self.children.append(child)
         return child
 
+    def lower_priority(self, child: Child, niceness: int) -> bool:
+        """Set a running child's session (autogroup) nice, what Linux weighs sessions by; False when the child is
+        gone or the kernel refuses (raising it needs no privilege)."""
+        try:
+            Path(f"/proc/{child.pid}/autogroup").write_text(str(int(niceness)))
+        except OSError:
+            return False
+        return True
+
     def kill(self, child: Child, sig: int = signal.SIGKILL) -> None:
         """Signal one child's whole process group (fault injection and shutdown)."""
         try:

@@ -87,3 +87,19 @@ def test_many_children_start_while_threads_churn(tmp_path: Path, monkeypatch) ->
     finally:
         stop.set()
         supervisor.stop_all()
+
+
+def test_a_running_child_is_lowered_to_a_new_nice(tmp_path: Path, monkeypatch) -> None:
+    _module(tmp_path, "sleeper", "import time; time.sleep(30)")
+    monkeypatch.chdir(tmp_path)
+    supervisor = Supervisor(tmp_path)
+    try:
+        child = supervisor.start("sleeper", ["sleeper"], niceness=5)
+        deadline = time.monotonic() + 10.0
+        while "nice 5" not in Path(f"/proc/{child.pid}/autogroup").read_text() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert supervisor.lower_priority(child, 12)
+        assert Path(f"/proc/{child.pid}/autogroup").read_text().split()[-1] == "12"
+    finally:
+        supervisor.stop_all()
+    assert not supervisor.lower_priority(child, 13)
