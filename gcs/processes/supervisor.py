@@ -21,7 +21,7 @@ _CHILD_BOOT = """
 import ctypes, os, runpy, sys
 parent, niceness = int(sys.argv[1]), int(sys.argv[2])
 try:
-    ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, 15)
+    ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, 15)  # PR_SET_PDEATHSIG, SIGTERM
 except OSError:
     pass
 if os.getppid() != parent:
@@ -43,8 +43,8 @@ autogroups that share the CPU equally whatever their processes' nice values; so 
 (``/proc/self/autogroup``), or a busy machine would give each of 13 agents as much CPU as the simulator.
 
 This runs after ``exec``, never between ``fork`` and ``exec`` (a ``preexec_fn``): the ground station has Zenoh's
-threads calling into Python, and a child forked while one of them held the interpreter's thread-state lock hung
-forever in ``PyOS_AfterFork_Child`` before running anything (seen while starting the 13th agent of a mission)."""
+threads calling into Python, and a child forked while one of them holds the interpreter's thread-state lock would
+block forever in ``PyOS_AfterFork_Child`` before running anything."""
 
 
 def child_command(module_args: list[str], niceness: int = 0, parent_pid: int | None = None) -> list[str]:
