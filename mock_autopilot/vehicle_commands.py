@@ -156,6 +156,9 @@ _REQUESTED_BY_COMMAND = {
 
 
 def request_message(v: VehicleState, link: str, command: int, p: list[float], now_s: float, relative_alt: bool) -> CommandReply:
+    """Send the message asked for once, after the ACK. A message the vehicle has nothing to fill with (HOME_POSITION
+    before home is set, as on a vehicle without GPS) is DENIED, as PX4's receiver answers when the stream sends
+    nothing."""
     name = _REQUESTED_BY_COMMAND.get(command)
     if name is None:
         name = telemetry.BUILDER_BY_ID.get(int(p[0])) if math.isfinite(p[0]) else None
@@ -163,7 +166,7 @@ def request_message(v: VehicleState, link: str, command: int, p: list[float], no
         return _reply(MavResult.UNSUPPORTED)
     message = telemetry.BUILDERS[name](take_snapshot(v, now_s))
     if message is None:
-        return _reply(MavResult.TEMPORARILY_REJECTED)
+        return _reply(MavResult.DENIED)
     return CommandReply(MavResult.ACCEPTED, [], [Outgoing(link, message)])
 
 

@@ -90,6 +90,8 @@ def test_vehicle_without_gps_flies_on_local_position() -> None:
     assert s.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_PREARM_CHECK
     assert h.type_counts()["GLOBAL_POSITION_INT"] == 0 and h.type_counts()["HOME_POSITION"] == 0
     assert h.last("GPS_RAW_INT").fix_type == 0
+    assert h.command(512, mavlink.MAVLINK_MSG_ID_HOME_POSITION) == DENIED
+    assert h.command(mavlink.MAV_CMD_GET_HOME_POSITION) == DENIED
     velocity(h, 0, 0, 0)
     assert set_mode(h, Px4Mode.OFFBOARD) == ACCEPTED
     assert h.command(400, 1) == ACCEPTED
