@@ -29,6 +29,7 @@ COLUMNS: tuple[tuple[str, str, str], ...] = (
     ("caged_area_fraction_final", "caged / all water", "{:.2f}"),
     ("edge_speed_p50_mps", "edge speed p50 [m/s]", "{:.3f}"),
     ("edge_speed_p95_mps", "edge speed p95 [m/s]", "{:.3f}"),
+    ("flood_time_scale", "hydraulic s per mission s", "{:g}"),
 )
 
 
@@ -52,7 +53,9 @@ def hydro_section(ok_rows: Mapping[str, Sequence[Row]]) -> list[str]:
         "pluvial.png). The polygon is scored against the caged component: the wet component holding the breach or "
         "the river's inlet, and for `pluvial` the component that overlaps most the largest pond at the end. "
         "'caged / all water' is that component's share of all the water at the end; the edge speed is the outward "
-        "speed of the caged outline along its perimeter (5 s apart, pooled over the run). Targets: improved mode on "
+        "speed of the caged outline along its perimeter (5 s apart, pooled over the run, in mission time); "
+        "'hydraulic s per mission s' is `flood.time_scale`, how much faster than the solver's clock the flood "
+        "plays (`pluvial` also starts 150 hydraulic s into its storm). Targets: improved mode on "
         "`breach` and `river`; `pluvial` is measured: its caged pond merges with the neighbouring hollow at flood time "
         "about 29 s (the outline jumps from about 155 to 245 m² and its centroid moves about 6 m), after the ring "
         "has closed, so the ring has to take in a new lobe; the other ponds are not scored. `river` is the 60 m "

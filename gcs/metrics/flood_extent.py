@@ -42,8 +42,20 @@ def edge_speeds_mps(flood: FloodModel, t_start_s: float, t_end_s: float,
     return np.concatenate(speeds) if speeds else np.zeros(0)
 
 
+def flood_clock(flood: FloodModel) -> dict[str, float]:
+    """How the flood's own clock ran against the mission's: ``flood_time_scale`` (hydraulic seconds per mission
+    second) and ``flood_hydraulic_start_s`` (hydraulic time at mission flood time 0) for a hydrodynamic flood, whose
+    hours-long run may be played faster so that a result's edge speeds and times read in hydraulic time too; NaN
+    for a flood drawn on the mission clock."""
+    scale, start = getattr(flood, "time_scale", None), getattr(flood, "start_s", None)
+    if not isinstance(scale, (int, float)) or not isinstance(start, (int, float)):
+        return {"flood_time_scale": math.nan, "flood_hydraulic_start_s": math.nan}
+    return {"flood_time_scale": float(scale), "flood_hydraulic_start_s": float(start)}
+
+
 def flood_extent_summary(flood: FloodModel, t_start_s: float, t_end_s: float) -> dict[str, Any]:
-    """``caged_area_final_m2``, ``wet_area_final_m2``, ``caged_area_fraction_final`` and edge speed p50/p95/max."""
+    """``caged_area_final_m2``, ``wet_area_final_m2``, ``caged_area_fraction_final``, edge speed p50/p95/max and
+    the flood's clock (:func:`flood_clock`)."""
     caged, total = float(flood.area_m2(t_end_s)), wet_area_m2(flood, t_end_s)
     speeds = edge_speeds_mps(flood, t_start_s, t_end_s)
     finite = speeds[np.isfinite(speeds)]
@@ -58,4 +70,5 @@ def flood_extent_summary(flood: FloodModel, t_start_s: float, t_end_s: float) ->
         "edge_speed_p50_mps": pct(50),
         "edge_speed_p95_mps": pct(95),
         "edge_speed_max_mps": float(finite.max()) if len(finite) else math.nan,
+        **flood_clock(flood),
     }

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import subprocess
 import sys
@@ -11,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gcs.metrics.flood_extent import flood_clock, flood_extent_summary
 from mock_autopilot.world import hydro_cache
 from mock_autopilot.world.config import FloodConfigError, flood_model_from_config
 from mock_autopilot.world.hydro import HydroFlood
@@ -139,6 +141,14 @@ def test_the_flood_answers_vectorised_with_a_caged_component_and_time_scale() ->
     assert flood.is_water(np.array([[0.0, 0.0]]), 10.0).tolist() == [True]  # the source is in the caged water
     assert np.all(ring.min(axis=0) <= flood.centroid_en_m(10.0)) and np.all(flood.centroid_en_m(10.0) <= ring.max(axis=0))
     assert flood.is_water(ring, 10.0).mean() >= 0.9  # ring vertices are the centres of the outermost wet pixels
+
+
+def test_every_result_reports_the_flood_clock() -> None:
+    hydro = flood_model_from_config(_table(), seed=3)
+    summary = flood_extent_summary(hydro, 0.0, 10.0)
+    assert (summary["flood_time_scale"], summary["flood_hydraulic_start_s"]) == (2.0, 10.0)
+    circle = flood_model_from_config({"model": "circle"}, seed=3)
+    assert all(math.isnan(v) for v in flood_clock(circle).values())
 
 
 @pytest.mark.parametrize(("changes", "field"), [
