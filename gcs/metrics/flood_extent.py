@@ -45,8 +45,8 @@ def edge_speeds_mps(flood: FloodModel, t_start_s: float, t_end_s: float,
 def flood_clock(flood: FloodModel) -> dict[str, float]:
     """How the flood's own clock ran against the mission's: ``flood_time_scale`` (hydraulic seconds per mission
     second) and ``flood_hydraulic_start_s`` (hydraulic time at mission flood time 0) for a hydrodynamic flood, whose
-    hours-long run may be played faster so that a result's edge speeds and times read in hydraulic time too; NaN
-    for a flood drawn on the mission clock."""
+    hours-long run may be played faster than the solver's clock (a result's times and edge speeds are in mission
+    time; these two turn them into hydraulic time); NaN for a flood drawn on the mission clock."""
     scale, start = getattr(flood, "time_scale", None), getattr(flood, "start_s", None)
     if not isinstance(scale, (int, float)) or not isinstance(start, (int, float)):
         return {"flood_time_scale": math.nan, "flood_hydraulic_start_s": math.nan}
