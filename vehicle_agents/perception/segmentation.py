@@ -23,7 +23,6 @@ from numpy.typing import NDArray
 
 from comms.camera_projection import pixel_to_ground, project_pixels
 from vehicle_agents.perception.result import PerceptionResult
-from vehicle_agents.perception.water_holes import fill_small_land_holes
 from vehicle_agents.perception.water_mask import segment_water
 
 MIN_SIDE_PX = 8
@@ -103,9 +102,7 @@ def _perceive(
     to_ground = pixel_to_ground(w, h, fov_deg, altitude_m, *attitude_rad)
     if to_ground is None or _unusable_exposure(image):
         return PerceptionResult.no_measurement(footprint_m)
-    mask, score, threshold = segment_water(image)
-    if mask is not None:
-        mask = fill_small_land_holes(mask, footprint_m / w)
+    mask, score, threshold = segment_water(image, ground_sample_m=footprint_m / w)
     water_fraction = cv2.countNonZero(mask.view(np.uint8)) / mask.size if mask is not None else float(
         float(score.mean()) > threshold)
     if not MIN_CLASS_FRACTION <= water_fraction <= 1.0 - MIN_CLASS_FRACTION:

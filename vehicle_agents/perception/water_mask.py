@@ -11,11 +11,14 @@ Two cues, tried in turn:
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
 from vehicle_agents.perception.grey_water import grey_water
+from vehicle_agents.perception.water_holes import fill_small_land_holes
 
 NEUTRAL_BLUENESS = 128.0
 """Blueness ``B − (G + R)/2 + 128`` of grey: water under a blue sky lies above it, vegetation and soil below."""
@@ -33,7 +36,8 @@ _KERNEL3 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 _BLUENESS_ROW = np.array([[1.0, -0.5, -0.5, 128.0]], np.float32)
 
 
-def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
+def segment_water(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.nan
+                  ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
     """(water mask or None for a one-class frame, score image, threshold) for a valid (H, W, 3) uint8 image.
 
     Water is the high side of the threshold on the score: the blueness when the frame's water mirrors a blue sky
@@ -44,7 +48,7 @@ def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | Non
     the grey cue cannot see (it calls the frame land) is kept: glint, the other small near-blue thing in a frame,
     lies on water the grey cue finds.
     """
-    blue = _blue_water(image_bgr)
+    blue = _blue_water(image_bgr, ground_sample_m)
     if blue is not None and blue[0] is None:
         return blue
     if blue is not None and blue[0] is not None:
@@ -59,7 +63,8 @@ def segment_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | Non
     return grey
 
 
-def _blue_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float] | None:
+def _blue_water(image_bgr: NDArray[np.uint8], ground_sample_m: float
+                ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float] | None:
     """Clear or murky water under a blue sky: the blueness ``B − (G + R)/2 + 128`` is above neutral grey for water
     and below it for vegetation and soil (lighting scales every channel alike, so the sign holds in shade and sun).
     Otsu's split is moved half-way between the class means, or to neutral when that lies far from it (Otsu split
@@ -89,4 +94,7 @@ def _blue_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None,
         return None
     binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, _KERNEL3)
     binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, _KERNEL3)
-    return binary.view(bool), blueness, float(threshold)
+    water = binary.view(bool)
+    if math.isfinite(ground_sample_m):
+        water = fill_small_land_holes(water, ground_sample_m)
+    return water, blueness, float(threshold)
