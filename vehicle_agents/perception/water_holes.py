@@ -8,6 +8,8 @@ A land patch enclosed by water and smaller than ``MAX_HOLE_AREA_M2`` on the grou
 it is taken as water. A patch touching the image border may be the shore seen through the frame's edge and is
 kept, as is any patch of real size (an island). The holes come from the water's outlines (about 15 µs a 128x128
 frame; labelling the land's components costs ten times that with OpenCV on one thread, as agents run it).
+:mod:`vehicle_agents.perception.water_mask` applies this to the blue cue's mask only: where the grey-water cue
+decides, its water class can itself spill round real land, and filling what it encloses makes that worse.
 """
 
 from __future__ import annotations

@@ -4,7 +4,8 @@ Two cues, tried in turn:
 
 - **Water under a blue sky is bluer than grey**, vegetation and soil yellower: the blueness ``B − (G + R)/2``
   (tried first; it is exact where it applies and costs one transform). Otsu's split, moved half-way between the
-  class means, with specks removed by an opening and a closing.
+  class means, with specks removed by an opening and a closing, and floating debris (small land patches the water
+  encloses) taken as water when the ground sample is known (:mod:`vehicle_agents.perception.water_holes`).
 - **Water that is not blue** (silt-laden, grey sky, cloud shadow): lighter, less saturated, bluer in chromaticity
   and smoother than the land beside it (:mod:`vehicle_agents.perception.grey_water`).
 """
@@ -46,7 +47,8 @@ def segment_water(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.na
     as mask with a threshold that puts the frame's mean score above it when the frame is water (a frame all bluer
     than neutral is water). A faint blue sliver
     the grey cue cannot see (it calls the frame land) is kept: glint, the other small near-blue thing in a frame,
-    lies on water the grey cue finds.
+    lies on water the grey cue finds. ``ground_sample_m`` [m/px], when given, lets the blue cue take the floating
+    debris inside its water as water (:func:`vehicle_agents.perception.water_holes.fill_small_land_holes`).
     """
     blue = _blue_water(image_bgr, ground_sample_m)
     if blue is not None and blue[0] is None:
