@@ -21,6 +21,17 @@ def edge_frame(across_m: float) -> PerceptionResult:
         edge_tangent_en=np.array([0.0, 1.0]), edge_points_en_m=points)
 
 
+def turned_frame(turn_rad: float, across_m: float = 0.5) -> PerceptionResult:
+    """The edge of :func:`edge_frame` turned by ``turn_rad`` about the point below the drone."""
+    c, s = np.cos(turn_rad), np.sin(turn_rad)
+    rotation = np.array([[c, -s], [s, c]])
+    frame = edge_frame(across_m)
+    return PerceptionResult(
+        has_edge=True, water_fraction=0.5, only_land=False, only_water=False, footprint_side_m=FOOTPRINT_M,
+        midpoint_offset_en_m=rotation @ frame.midpoint_offset_en_m, edge_normal_en=rotation @ frame.edge_normal_en,
+        edge_tangent_en=rotation @ frame.edge_tangent_en, edge_points_en_m=frame.edge_points_en_m @ rotation.T)
+
+
 def one_class(only_water: bool) -> PerceptionResult:
     return PerceptionResult(has_edge=False, water_fraction=1.0 if only_water else 0.0, only_land=not only_water,
                             only_water=only_water, footprint_side_m=FOOTPRINT_M)
@@ -53,6 +64,29 @@ def test_one_frame_with_the_edge_metres_away_is_doubted_then_believed_when_it_la
     later = TrustLimits().hold_s + 0.2
     acted, trust = trusted_result(jumped, np.array([10.0, 5.0]), later, held)
     assert acted is jumped and trust.t_s == later
+
+
+def test_an_edge_turned_far_from_the_last_is_doubted_then_believed_when_it_lasts() -> None:
+    """A cloud shadow's edge across turbid water read as a second shore turns the fitted edge by tens of degrees
+    within one frame; the edge point alone stays within the jump limit, so the direction must be checked too."""
+    trust = seen_at(NO_TRUST, 0.0)
+    turned = turned_frame(np.radians(75.0))
+    acted, held = trusted_result(turned, np.array([10.0, 5.0]), 0.1, trust)
+    assert not acted.has_edge and not acted.only_land and not acted.only_water
+    assert held == trust
+    later = TrustLimits().hold_s + 0.2
+    acted, trust = trusted_result(turned, np.array([10.0, 5.0]), later, held)
+    assert acted is turned and trust.t_s == later
+
+
+def test_an_edge_turning_as_a_bend_does_is_acted_on() -> None:
+    trust = seen_at(NO_TRUST, 0.0)
+    bend = turned_frame(np.radians(20.0))
+    acted, trust = trusted_result(bend, np.array([10.0, 5.0]), 0.1, trust)
+    assert acted is bend and trust.t_s == 0.1
+    allowed = TrustLimits().max_turn_rad + TrustLimits().turn_rate_radps * 0.9
+    wider = turned_frame(np.radians(20.0) + allowed - 0.05)
+    assert trusted_result(wider, np.array([10.0, 5.0]), 1.0, trust)[0] is wider
 
 
 def test_only_land_while_the_edge_should_be_in_view_is_doubted() -> None:
