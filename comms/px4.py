@@ -94,7 +94,8 @@ _AUTO = MAV_MODE_FLAG_AUTO_ENABLED | MAV_MODE_FLAG_STABILIZE_ENABLED | MAV_MODE_
 MODE_TABLE: dict[Px4Mode, ModeSpec] = {
     Px4Mode.MANUAL: ModeSpec(1, 0, MAVSDK_NAMES[Px4Mode.MANUAL], _MANUAL, False, False, True),
     Px4Mode.ALTCTL: ModeSpec(2, 0, MAVSDK_NAMES[Px4Mode.ALTCTL], _MANUAL, False, False, True),
-    Px4Mode.POSCTL: ModeSpec(3, 0, MAVSDK_NAMES[Px4Mode.POSCTL], _MANUAL | MAV_MODE_FLAG_GUIDED_ENABLED, True, False, True),
+    Px4Mode.POSCTL: ModeSpec(3, 0, MAVSDK_NAMES[Px4Mode.POSCTL], _MANUAL | MAV_MODE_FLAG_GUIDED_ENABLED,
+                             True, False, True),
     Px4Mode.AUTO_READY: ModeSpec(4, 1, MAVSDK_NAMES[Px4Mode.AUTO_READY], _AUTO, True, False, False),
     Px4Mode.AUTO_TAKEOFF: ModeSpec(4, 2, MAVSDK_NAMES[Px4Mode.AUTO_TAKEOFF], _AUTO, True, False, False),
     Px4Mode.AUTO_LOITER: ModeSpec(4, 3, MAVSDK_NAMES[Px4Mode.AUTO_LOITER], _AUTO, True, False, False),
