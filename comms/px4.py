@@ -3,8 +3,9 @@ landed states, command results, and how a datagram splits into MAVLink frames.
 
 PX4 packs its mode into HEARTBEAT.custom_mode as ``(sub_mode << 24) | (main_mode << 16)`` (PX4's
 ``px4_custom_mode.h``); the same numbers go into DO_SET_MODE's param2/param3. QGroundControl shows the
-commander's names (AUTO.LOITER), MAVSDK its own (HOLD): both are columns of one table here. The flag, result and
-landed-state numbers are pymavlink's, so no package writes a MAVLink number by hand.
+commander's names (AUTO.LOITER), MAVSDK its own (HOLD): both are columns of one table here, the names taken from
+:mod:`comms.px4_mode_names` (and re-exported), which a MAVSDK agent imports alone so that it never loads pymavlink.
+The flag, result and landed-state numbers are pymavlink's, so no package writes a MAVLink number by hand.
 
 The requirement columns follow PX4 commander's mode requirements, with one simplification: Hold, takeoff and land
 fly on local position alone (newer PX4 allows this), while RTL and MISSION need a global position.
@@ -13,9 +14,12 @@ fly on local position alone (newer PX4 allows this), while RTL and MISSION need 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum, IntEnum
+from enum import IntEnum
 
 from pymavlink.dialects.v20 import common as mavlink
+
+from comms.px4_mode_names import MAVSDK_MODE_NAMES, MAVSDK_OFFBOARD  # noqa: F401 (named here too)
+from comms.px4_mode_names import MAVSDK_NAMES, Px4Mode
 
 MAV_MODE_FLAG_CUSTOM_MODE_ENABLED: int = mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
 MAV_MODE_FLAG_AUTO_ENABLED: int = mavlink.MAV_MODE_FLAG_AUTO_ENABLED
@@ -71,22 +75,6 @@ def landed_state_name(value: int) -> str:
         return str(value)
 
 
-class Px4Mode(Enum):
-    """The PX4 navigation modes a multicopter flies without RC; the value is the name QGroundControl shows."""
-
-    MANUAL = "MANUAL"
-    ALTCTL = "ALTCTL"
-    POSCTL = "POSCTL"
-    OFFBOARD = "OFFBOARD"
-    STABILIZED = "STABILIZED"
-    AUTO_READY = "AUTO.READY"
-    AUTO_TAKEOFF = "AUTO.TAKEOFF"
-    AUTO_LOITER = "AUTO.LOITER"
-    AUTO_MISSION = "AUTO.MISSION"
-    AUTO_RTL = "AUTO.RTL"
-    AUTO_LAND = "AUTO.LAND"
-
-
 @dataclass(frozen=True)
 class ModeSpec:
     """One row of the mode table: PX4's main/sub numbers, the name MAVSDK shows, heartbeat flags, requirements."""
@@ -104,25 +92,19 @@ _MANUAL = MAV_MODE_FLAG_MANUAL_INPUT_ENABLED | MAV_MODE_FLAG_STABILIZE_ENABLED
 _AUTO = MAV_MODE_FLAG_AUTO_ENABLED | MAV_MODE_FLAG_STABILIZE_ENABLED | MAV_MODE_FLAG_GUIDED_ENABLED
 
 MODE_TABLE: dict[Px4Mode, ModeSpec] = {
-    Px4Mode.MANUAL: ModeSpec(1, 0, "MANUAL", _MANUAL, False, False, True),
-    Px4Mode.ALTCTL: ModeSpec(2, 0, "ALTCTL", _MANUAL, False, False, True),
-    Px4Mode.POSCTL: ModeSpec(3, 0, "POSCTL", _MANUAL | MAV_MODE_FLAG_GUIDED_ENABLED, True, False, True),
-    Px4Mode.AUTO_READY: ModeSpec(4, 1, "READY", _AUTO, True, False, False),
-    Px4Mode.AUTO_TAKEOFF: ModeSpec(4, 2, "TAKEOFF", _AUTO, True, False, False),
-    Px4Mode.AUTO_LOITER: ModeSpec(4, 3, "HOLD", _AUTO, True, False, False),
-    Px4Mode.AUTO_MISSION: ModeSpec(4, 4, "MISSION", _AUTO, True, True, False),
-    Px4Mode.AUTO_RTL: ModeSpec(4, 5, "RETURN_TO_LAUNCH", _AUTO, True, True, False),
-    Px4Mode.AUTO_LAND: ModeSpec(4, 6, "LAND", _AUTO, True, False, False),
-    Px4Mode.OFFBOARD: ModeSpec(6, 0, "OFFBOARD", _AUTO, True, False, False),
-    Px4Mode.STABILIZED: ModeSpec(7, 0, "STABILIZED", _MANUAL, False, False, True),
+    Px4Mode.MANUAL: ModeSpec(1, 0, MAVSDK_NAMES[Px4Mode.MANUAL], _MANUAL, False, False, True),
+    Px4Mode.ALTCTL: ModeSpec(2, 0, MAVSDK_NAMES[Px4Mode.ALTCTL], _MANUAL, False, False, True),
+    Px4Mode.POSCTL: ModeSpec(3, 0, MAVSDK_NAMES[Px4Mode.POSCTL], _MANUAL | MAV_MODE_FLAG_GUIDED_ENABLED,
+                             True, False, True),
+    Px4Mode.AUTO_READY: ModeSpec(4, 1, MAVSDK_NAMES[Px4Mode.AUTO_READY], _AUTO, True, False, False),
+    Px4Mode.AUTO_TAKEOFF: ModeSpec(4, 2, MAVSDK_NAMES[Px4Mode.AUTO_TAKEOFF], _AUTO, True, False, False),
+    Px4Mode.AUTO_LOITER: ModeSpec(4, 3, MAVSDK_NAMES[Px4Mode.AUTO_LOITER], _AUTO, True, False, False),
+    Px4Mode.AUTO_MISSION: ModeSpec(4, 4, MAVSDK_NAMES[Px4Mode.AUTO_MISSION], _AUTO, True, True, False),
+    Px4Mode.AUTO_RTL: ModeSpec(4, 5, MAVSDK_NAMES[Px4Mode.AUTO_RTL], _AUTO, True, True, False),
+    Px4Mode.AUTO_LAND: ModeSpec(4, 6, MAVSDK_NAMES[Px4Mode.AUTO_LAND], _AUTO, True, False, False),
+    Px4Mode.OFFBOARD: ModeSpec(6, 0, MAVSDK_NAMES[Px4Mode.OFFBOARD], _AUTO, True, False, False),
+    Px4Mode.STABILIZED: ModeSpec(7, 0, MAVSDK_NAMES[Px4Mode.STABILIZED], _MANUAL, False, False, True),
 }
-
-MAVSDK_MODE_NAMES: dict[str, str] = {mode.value: spec.mavsdk_name for mode, spec in MODE_TABLE.items()}
-"""PX4's own mode name (QGroundControl's, ``Px4Mode.value``) -> the name MAVSDK's ``FlightMode`` gives it, which is
-what an onboard agent's telemetry carries. The two agree on OFFBOARD, the mode the flight phase tests."""
-
-MAVSDK_OFFBOARD = MODE_TABLE[Px4Mode.OFFBOARD].mavsdk_name
-"""OFFBOARD as MAVSDK's telemetry names it (what an onboard agent compares its flight mode with)."""
 
 _BY_NUMBERS: dict[tuple[int, int], Px4Mode] = {(s.main_mode, s.sub_mode): m for m, s in MODE_TABLE.items()}
 

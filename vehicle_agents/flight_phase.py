@@ -15,7 +15,7 @@ import enum
 import math
 from dataclasses import dataclass
 
-from comms.px4 import MAVSDK_OFFBOARD
+from comms.px4_mode_names import MAVSDK_OFFBOARD
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 
 

@@ -29,7 +29,7 @@ from comms.messages import (
     HeardState,
     NeighbourState,
 )
-from comms.px4 import MAVSDK_OFFBOARD
+from comms.px4_mode_names import MAVSDK_OFFBOARD
 from mission_plan.roles import Role
 from vehicle_agents.autopilot_link import AutopilotTelemetry
 from vehicle_agents.control.types import NeighbourInfo, OwnState, VelocityCommand

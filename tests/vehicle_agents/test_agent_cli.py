@@ -84,3 +84,20 @@ def test_the_agent_never_imports_the_ground_station_or_builds_the_flood(plan_fil
     )
     out = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=60, check=True)
     assert out.stdout.strip() == "[]", out.stdout
+
+
+@pytest.mark.parametrize(("link", "loads_pymavlink"), [("mavsdk", False), ("pymavlink", True)])
+def test_only_the_pymavlink_link_loads_pymavlink(link: str, loads_pymavlink: bool, plan_file: Path) -> None:
+    """A MAVSDK agent reads mode names, never MAVLink numbers: pymavlink (~6 MiB per agent) stays out of its
+    process, from the imports of ``python -m vehicle_agents`` through its links; ``--link pymavlink`` still loads it."""
+    code = (
+        "import sys\n"
+        "from vehicle_agents.__main__ import _make_link, build_parser, config_from_args\n"
+        "from vehicle_agents.sim_clock_link import SimClockLink\n"
+        "from vehicle_agents.swarm_link_zenoh import ZenohSwarmLink\n"
+        f"config, _, url = config_from_args(build_parser().parse_args(['--plan', {str(plan_file)!r}]))\n"
+        f"_make_link({link!r}, url, config.control_rate_hz, config.has_gps)\n"
+        "print(any(m.split('.')[0] == 'pymavlink' for m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=60, check=True)
+    assert out.stdout.strip() == str(loads_pymavlink), out.stdout
