@@ -35,6 +35,7 @@ from vehicle_agents.control.ring_spacing import ring_neighbours, spacing_velocit
 from vehicle_agents.control.safety import safety_velocity, yielded_to
 from vehicle_agents.control.types import ROLE_BOUNDARY, NeighbourInfo, OwnState
 from vehicle_agents.control.vision_tracking import altitude_rate_mps, tracked_offset_en_m, tracking_velocity
+from vehicle_agents.perception.edge_continuity import continuous_edge_points
 from vehicle_agents.perception.result import PerceptionResult
 
 
@@ -64,7 +65,8 @@ def boundary_step(
     if offset is not None and perception is not None and perception.edge_tangent_en is not None:
         tangent = np.asarray(perception.edge_tangent_en, dtype=float)
         normal = np.asarray(perception.edge_normal_en, dtype=float)
-        edge_points = q[None, :] + np.asarray(perception.edge_points_en_m, dtype=float).reshape(-1, 2)
+        edge_points = q[None, :] + continuous_edge_points(perception.edge_points_en_m, tangent, normal,
+                                                          perception.footprint_side_m)
     edge_rate = update_edge_rate(memory.edge_rate, None if offset is None else q + offset, t_s, params.pdot_filter_time_s)
 
     leading = is_leading(entry, boundary_nbrs, params)
