@@ -64,7 +64,8 @@ def continuous_edge_points(points_en_m: NDArray[np.float64], tangent_en: NDArray
     for step in (1, -1):
         last_along, last_across = along[start], across[start]
         for j in range(start + step, len(along) if step > 0 else -1, step):
-            if abs(across[j] - last_across) <= STEP_TOLERANCE_M + min(MAX_SLOPE * abs(along[j] - last_along), MAX_BEND_M):
+            bend_m = min(MAX_SLOPE * abs(along[j] - last_along), MAX_BEND_M)
+            if abs(across[j] - last_across) <= STEP_TOLERANCE_M + bend_m:
                 keep[j] = True
                 last_along, last_across = along[j], across[j]
     return points[np.array(keep)]
