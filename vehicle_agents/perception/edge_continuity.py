@@ -44,9 +44,9 @@ def continuous_edge_points(points_en_m: NDArray[np.float64], tangent_en: NDArray
     points = np.asarray(points_en_m, dtype=float).reshape(-1, 2)
     if points.shape[0] < MIN_POINTS:
         return points
-    order = np.argsort(points @ np.asarray(tangent_en, dtype=float), kind="stable")
-    points = points[order]
     along_m = points @ np.asarray(tangent_en, dtype=float)
+    order = np.argsort(along_m, kind="stable")
+    points, along_m = points[order], along_m[order]
     across_m = points @ np.asarray(normal_en, dtype=float)
     steps_ok = np.abs(np.diff(across_m)) <= STEP_TOLERANCE_M + np.minimum(MAX_SLOPE * np.diff(along_m), MAX_BEND_M)
     if steps_ok.all():
