@@ -116,6 +116,19 @@ def body_frd_to_ned(vector_frd: ArrayLike, yaw_ned_rad: float) -> NDArray[np.flo
     return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1], v[..., 2]], axis=-1)
 
 
+def body_fr_to_en(vector_fr_m: ArrayLike, yaw_ned_rad: float) -> NDArray[np.float64]:
+    """Rotate horizontal body-frame (forward, right) vectors (..., 2) into mission (east, north) by the yaw (level)."""
+    v = np.asarray(vector_fr_m, dtype=float)
+    c, s = math.cos(yaw_ned_rad), math.sin(yaw_ned_rad)
+    return np.stack([s * v[..., 0] + c * v[..., 1], c * v[..., 0] - s * v[..., 1]], axis=-1)
+
+
+def en_to_body_fr(vector_en_m: ArrayLike, yaw_ned_rad: float) -> NDArray[np.float64]:
+    """Rotate mission (east, north) vectors (..., 2) into the horizontal body frame (forward, right) by the yaw (the
+    same matrix as :func:`body_fr_to_en`: swapping the axes' order and handedness makes the map its own inverse)."""
+    return body_fr_to_en(vector_en_m, yaw_ned_rad)
+
+
 def body_to_ned_matrix(roll_rad: float, pitch_rad: float, yaw_ned_rad: float) -> NDArray[np.float64]:
     """3x3 rotation taking a body (forward, right, down) vector into NED: PX4's Euler angles, yaw-pitch-roll (Z-Y-X)
     order, as ATTITUDE reports them."""

@@ -101,6 +101,10 @@ class MissionKeys:
     def camera(self, vehicle_id: int) -> str:
         return f"{self.prefix}/sim/uav/{int(vehicle_id)}/camera"
 
+    def ranging(self, vehicle_id: int) -> str:
+        """One drone's relative-position sensor (:class:`comms.messages.NeighbourRanging`), simulated like its camera."""
+        return f"{self.prefix}/sim/uav/{int(vehicle_id)}/ranging"
+
     @property
     def all_cameras(self) -> str:
         return f"{self.prefix}/sim/uav/*/camera"

@@ -181,6 +181,24 @@ class CameraFrame(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="sc
             raise InvalidMessage("raw_bgr size mismatch")
 
 
+class NeighbourRanging(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/ranging/1"):
+    """What one drone's relative-position sensor measured at ``t_s`` (the paper's drones "sense the relative
+    positions of their neighbours within limited distances", §I): each neighbour in range, as (forward, right) [m] in
+    the drone's horizontal body frame (UWB ranging with angle of arrival, or a camera that sees the others). The
+    drone turns them into the mission frame with its own heading estimate, whose error they then carry."""
+
+    vehicle_id: int
+    t_s: float
+    neighbour_ids: Annotated[list[int], msgspec.Meta(max_length=1024)]
+    forward_right_m: Annotated[list[Point2], msgspec.Meta(max_length=1024)]
+
+    def __post_init__(self) -> None:
+        if len(self.neighbour_ids) != len(self.forward_right_m):
+            raise InvalidMessage("ranging length mismatch")
+        if not (math.isfinite(self.t_s) and finite_points(self.forward_right_m)):
+            raise InvalidMessage("non-finite ranging")
+
+
 class BoundaryEdgePoints(msgspec.Struct, frozen=True, omit_defaults=True, tag_field="schema", tag="fw/edge/1"):
     """Water-edge points one boundary drone sees at ``t_s``, absolute mission ENU [m] (for the caged polygon)."""
 
@@ -244,11 +262,11 @@ class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     params: dict[str, float] = {}
 
 
-Message = Union[NeighbourState, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle,
+Message = Union[NeighbourState, CameraFrame, NeighbourRanging, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle,
                 RadioGroupBundle, PeerEvent,
                 SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport,
                 MissionEvent, OperatorRequest, FloodEdgeTruth]
-M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, BoundaryEdgePoints, GroundTruth, MissionCommand,
+M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, NeighbourRanging, BoundaryEdgePoints, GroundTruth, MissionCommand,
             RadioLinkStats, RadioBundle, RadioGroupBundle, PeerEvent, SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats,
             FloodPolygon, VehicleStatusReport, MissionEvent, OperatorRequest, FloodEdgeTruth)
 
@@ -257,6 +275,7 @@ MAX_PAYLOAD_BYTES: dict[type, int] = {
     NeighbourState: 16 * 1024,
     NeighbourStateForControl: 16 * 1024,
     CameraFrame: 4 * 1024 * 1024,
+    NeighbourRanging: 64 * 1024,
     BoundaryEdgePoints: 256 * 1024,
     GroundTruth: 4 * 1024 * 1024,
     MissionCommand: 16 * 1024,

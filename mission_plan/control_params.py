@@ -110,6 +110,13 @@ class ControlParams:
     """Improved: the deceleration the barrier counts on (PX4's MPC_ACC_HOR is 3 m/s²; the rest is margin)."""
     safety_reaction_s: float = 0.5
     """Improved: how long a drone keeps closing before it brakes: control period, PX4's velocity response, radio."""
+    cooperative_position: bool = False
+    """Improved: drones without GPS correct their drifting odometry from the relative positions they sense of their
+    neighbours (:mod:`vehicle_agents.core.cooperative_position`); only while ``odometry_drift_frac`` > 0."""
+    odometry_drift_frac: float = 0.0
+    """The drone's odometry drift [fraction of the distance flown]: its own sensor's figure (``[sensors]``)."""
+    ranging_sigma_m: float = 0.1
+    """σ per axis of the relative-position sensor [m] (``[sensors]``)."""
     edge_point_tracking: bool = False
     """Improved: track the edge points the camera sees under the drone instead of the land/water midpoint."""
     roster: tuple[RosterEntry, ...] = field(default_factory=tuple)
@@ -130,7 +137,8 @@ class ControlParams:
                      "meet_distance_m", "min_encircle_travel_m", "spacing_gain_per_s", "safety_radius_m",
                      "safety_gain_mps", "safety_min_distance_m", "safety_closing_rate_per_s", "safety_braking_mps2",
                      "safety_reaction_s", "neighbour_timeout_s", "k_altitude_per_s", "neighbour_accel_psd_m2ps3",
-                     "relay_max_hops", "relay_max_age_s", "relay_budget_bytes", "relay_every"):
+                     "relay_max_hops", "relay_max_age_s", "relay_budget_bytes", "relay_every", "odometry_drift_frac",
+                     "ranging_sigma_m"):
             if not getattr(self, name) >= 0.0:
                 raise ControlParamsError(f"control.{name}: must be >= 0, got {getattr(self, name)}")
         for name in ("neighbour_position_std_m", "neighbour_velocity_std_mps", "neighbour_position_bound_m",
@@ -187,6 +195,7 @@ _IMPROVED_DEFAULTS: dict[str, Any] = {
     "edge_point_tracking": True,
     "neighbour_filter": True,
     "relay_max_hops": 3,
+    "cooperative_position": True,
 }
 
 

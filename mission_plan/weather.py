@@ -41,7 +41,10 @@ class WindSpec:
 @dataclass(frozen=True)
 class SensorSpec:
     """Estimator errors: GPS white σ and bias σ [m] with the bias time constant [s], altitude σ [m], heading σ
-    [deg], odometry drift of vehicles without GPS [fraction of the distance flown]."""
+    [deg], odometry drift of vehicles without GPS [fraction of the distance flown]; and the relative-position sensor
+    every drone carries (the paper's sensing of neighbours, §I): white σ per axis [m], range [m], rate [Hz]. Not part
+    of any weather preset: it is the drones' hardware (UWB-class figures), read by the drones without GPS only while
+    their odometry drifts."""
 
     gps_white_sigma_m: float = 0.0
     gps_bias_sigma_m: float = 0.0
@@ -49,11 +52,19 @@ class SensorSpec:
     altitude_sigma_m: float = 0.0
     heading_sigma_deg: float = 0.0
     odometry_drift_frac: float = 0.0
+    ranging_sigma_m: float = 0.1
+    ranging_range_m: float = 25.0
+    ranging_rate_hz: float = 10.0
 
     @property
     def exact(self) -> bool:
         """No error at all: the estimate is the truth."""
-        return all(getattr(self, f.name) == 0.0 for f in fields(self) if f.name != "gps_bias_tau_s")
+        return all(getattr(self, name) == 0.0 for name in ESTIMATOR_ERROR_KEYS)
+
+    @property
+    def ranging_used(self) -> bool:
+        """The drones without GPS correct their drifting odometry by ranging their neighbours (and only then)."""
+        return self.odometry_drift_frac > 0.0 and self.ranging_range_m > 0.0
 
     @property
     def eph_m(self) -> float:
@@ -63,6 +74,8 @@ class SensorSpec:
 
 WIND_KEYS = frozenset(f.name for f in fields(WindSpec))
 SENSOR_KEYS = frozenset(f.name for f in fields(SensorSpec))
+ESTIMATOR_ERROR_KEYS = ("gps_white_sigma_m", "gps_bias_sigma_m", "altitude_sigma_m", "heading_sigma_deg",
+                        "odometry_drift_frac")
 
 
 def wind_spec(table: Mapping[str, Any]) -> WindSpec:
@@ -82,11 +95,13 @@ def wind_spec(table: Mapping[str, Any]) -> WindSpec:
 
 
 def sensor_spec(table: Mapping[str, Any]) -> SensorSpec:
-    """The ``[sensors]`` table as a :class:`SensorSpec`; every σ must be >= 0, the time constant > 0."""
+    """The ``[sensors]`` table as a :class:`SensorSpec`; every σ and the range must be >= 0, the time constant and
+    the ranging rate > 0."""
     reject_unknown(table, SENSOR_KEYS, "sensors")
     values = {
         key: number(table, key, getattr(SensorSpec, key), "sensors", non_negative=True)
-        for key in SENSOR_KEYS if key != "gps_bias_tau_s"
+        for key in SENSOR_KEYS if key not in ("gps_bias_tau_s", "ranging_rate_hz")
     }
-    values["gps_bias_tau_s"] = number(table, "gps_bias_tau_s", SensorSpec.gps_bias_tau_s, "sensors", positive=True)
+    for key in ("gps_bias_tau_s", "ranging_rate_hz"):
+        values[key] = number(table, key, getattr(SensorSpec, key), "sensors", positive=True)
     return SensorSpec(**values)

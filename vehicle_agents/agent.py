@@ -199,6 +199,7 @@ class Agent:
             inbox=(self.swarm.take_inbox(),),
             orders=(order,),
             stop=(self._stop_requested,),
+            ranging=(self.swarm.latest_ranging(),),
         )
         old_phase = self.phase
         outputs, self.state = onboard_step(self.plan, self.state, inputs)

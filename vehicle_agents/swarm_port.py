@@ -9,13 +9,17 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from comms.messages import CameraFrame, MissionCommand, NeighbourState
+from comms.messages import CameraFrame, MissionCommand, NeighbourRanging, NeighbourState
 from vehicle_agents.core.neighbours import Inbox
 
 
 class SwarmPort(Protocol):
     def latest_frame(self) -> CameraFrame | None:
         """The newest camera frame of this vehicle (None before the first)."""
+        ...
+
+    def latest_ranging(self) -> NeighbourRanging | None:
+        """The newest measurement of this vehicle's relative-position sensor (None before the first, or without one)."""
         ...
 
     def take_inbox(self) -> Inbox:

@@ -33,6 +33,7 @@ from comms.radio_model import GROUND_NODE_ID, radio_model_of
 from gcs.lockstep.backend_choice import BackendKind, make_backend
 from gcs.polygon.radio_node import GroundNode, antenna_enu_m
 from gcs.lockstep.radio_link import InMemoryRadio
+from gcs.lockstep.ranging import LockstepRanging
 from gcs.mission_record import MissionRecord, PolygonSample
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.relay_refusals import refused_copies_line
@@ -276,6 +277,7 @@ class _LockstepRun:
             self.flood, CameraModel(scenario.camera.width_px, scenario.camera.height_px, scenario.camera.fov_deg),
             scenario, seed, [i for i, v in enumerate(vehicles) if cameras == "all" or v.role == ROLE_BOUNDARY],
             [None] * len(vehicles))
+        self.ranging = LockstepRanging.of_fleet(self.ids, self.gps, scenario.sensors, params, seed)
         self.polygon = _GroundPolygon(
             scenario, params.ring_order(),
             next((v.vehicle_id for v in vehicles if v.role == ROLE_LEADER and v.has_gps), None),
@@ -309,9 +311,11 @@ class _LockstepRun:
         tilts = self._tilts_rad(velocity_ned)
         self.previous_velocity_ned = velocity_ned
         self.cameras.capture(t_s, state, positions, velocity_ned, tilts)
+        self.ranging.measure(t_s, positions, state.yaw_ned_rad, state.alive)
         orders = tuple(_STARTED if t_s >= delay - 1e-9 else _WAITING for delay in self.delays_s)
         inputs = OnboardInputs(t_s=t_s, telemetry=telemetry_of(state, self.pads, self.gps, self.scenario),
-                               perception=self.cameras.perceptions, inbox=inboxes, orders=orders)
+                               perception=self.cameras.perceptions, inbox=inboxes, orders=orders,
+                               ranging=self.ranging.latest)
         outputs, self.core = onboard_step(self.plan, self.core, inputs)
         self.gcs_heard = _broadcast(self.radio, self.ground, t_s, positions, outputs.state_messages, self.gcs_heard)
         sent = np.array([a in SETPOINT_ACTIONS for a in outputs.actions], dtype=bool)

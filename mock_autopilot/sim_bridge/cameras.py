@@ -1,7 +1,9 @@
 """``python -m mock_autopilot.sim_bridge.cameras --plan cameras.json``: the camera streams in a process of their own.
 
 Fed by the ground truth the fleet's process publishes, it renders each streaming vehicle's downward camera at the
-camera rate and publishes the frames (see :class:`mock_autopilot.sim_bridge.bridge.CameraStreamer`). Keeping the
+camera rate and publishes the frames (see :class:`mock_autopilot.sim_bridge.bridge.CameraStreamer`), and the
+relative-position measurements of the drones without GPS while their odometry drifts
+(:class:`mock_autopilot.sim_bridge.ranging_streamer.RangingStreamer`). Keeping the
 renderer out of the fleet's process gives it its own CPU share and interpreter lock: in one process, the fleet's
 MAVLink thread and the renderer slowed each other down (docs/BENCHMARKS.md, Mission). The cameras plan (the
 ground station writes ``<run>/plan/cameras.json``) gives the flood table, seed, DEM folder, camera and each
@@ -34,6 +36,7 @@ from mission_plan.roles import Role
 from mission_plan.table_fields import ScenarioError
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.sim_bridge.bridge import CameraStreamer, camera_users, vehicles_from_truth
+from mock_autopilot.sim_bridge.ranging_streamer import RangingStreamer
 from mock_autopilot.world.config import flood_model_from_config
 
 log = logging.getLogger("mock_autopilot.sim_bridge.cameras")
@@ -91,6 +94,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                                   camera_users(plan.roles, args.cameras),
                                   on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t),
                                   imaging=plan.imaging, wind_en_mps=plan.wind_en_mps)
+        ranging = RangingStreamer(session, mission, plan.sensors, plan.world.seed,
+                                  [vid for vid in plan.roles if vid not in plan.gps_ids])
         latest_t_s = -1.0
         next_stats_wall_s = time.monotonic() + 1.0
         while not stop.is_set():
@@ -100,14 +105,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                     if truth is None or truth.t_s <= latest_t_s:
                         continue
                     latest_t_s = truth.t_s
-                    streamer.stream(truth.t_s, vehicles_from_truth(truth))
+                    vehicles = vehicles_from_truth(truth)
+                    streamer.stream(truth.t_s, vehicles)
+                    ranging.stream(truth.t_s, vehicles)
                     session.put(keys.pace("cameras"), encode(PaceAck(participant="cameras", t_s=truth.t_s)))
             if time.monotonic() >= next_stats_wall_s and latest_t_s >= 0:
                 session.put(keys.camera_stats, encode(CameraStats(
                     t_s=latest_t_s, frames_sent=streamer.frames_sent, frame_rate_hz=streamer.frame_rate_hz(),
                     nominal_rate_hz=1.0 / streamer.camera_period_s)))
                 next_stats_wall_s = time.monotonic() + 1.0
-        log.info("cameras %s", streamer.summary())
+        log.info("cameras %s; %d ranging measurements", streamer.summary(), ranging.sent)
     return 0
 
 

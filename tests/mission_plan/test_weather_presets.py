@@ -38,6 +38,17 @@ def test_rough_sets_the_specified_numbers() -> None:
     assert scenario.sensors == SensorSpec(0.6, 1.5, 60.0, 0.4, 3.0, 0.03)
 
 
+def test_the_drones_know_their_own_odometry_and_ranging_figures() -> None:
+    """The drift figure and the ranging σ reach every drone's control parameters; the ranging sensor is the
+    drones' hardware, the same in every preset, and read only while the odometry drifts."""
+    calm, moderate = load_scenario("circle", []), load_scenario("circle", ["weather=moderate"])
+    params = moderate.control_params("improved")
+    assert params.cooperative_position and params.odometry_drift_frac == 0.01 and params.ranging_sigma_m == 0.1
+    assert not moderate.control_params("paper").cooperative_position
+    assert calm.sensors.ranging_sigma_m == moderate.sensors.ranging_sigma_m
+    assert moderate.sensors.ranging_used and not calm.sensors.ranging_used
+
+
 def test_user_keys_win_over_the_preset_in_any_order() -> None:
     for overrides in (["weather=moderate", "wind.speed_mps=7"], ["wind.speed_mps=7", "weather=moderate"]):
         scenario = load_scenario("circle", overrides)
@@ -66,6 +77,9 @@ def test_every_preset_names_the_same_imaging_keys() -> None:
     ("wind.speed=3", "wind.speed: unknown key (did you mean wind.speed_mps?)"),
     ("fleet.pad_jitter_m=-0.1", "fleet.pad_jitter_m: must be >= 0, got -0.1"),
     ("sensors.gps_bias_tau_s=0", "sensors.gps_bias_tau_s: must be > 0, got 0"),
+    ("sensors.ranging_sigma_m=-0.1", "sensors.ranging_sigma_m: must be >= 0, got -0.1"),
+    ("sensors.ranging_rate_hz=0", "sensors.ranging_rate_hz: must be > 0, got 0"),
+    ("control.ranging_sigma_m=0.2", "control.ranging_sigma_m: set by the scenario, not by the [control] table"),
 ])
 def test_bad_weather_key_is_one_line_naming_the_field(override: str, message: str) -> None:
     with pytest.raises(ScenarioError) as info:

@@ -21,11 +21,17 @@ import msgspec
 import numpy as np
 from numpy.typing import NDArray
 
-from comms.messages import HeardState, NeighbourState
+from comms.messages import HeardState, NeighbourRanging, NeighbourState
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
-from vehicle_agents.control.types import NeighbourInfo
+from vehicle_agents.control.types import NeighbourInfo, OwnState
+from vehicle_agents.core.cooperative_position import (
+    NO_CORRECTION,
+    PositionCorrection,
+    correction_step,
+    corrects_odometry,
+)
 from vehicle_agents.core.filtered_neighbours import filter_noise, filtered_infos, table_hold_s, track_step
 from vehicle_agents.core.neighbour_filter import EMPTY_BANK, FilterNoise, TrackBank
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
@@ -89,6 +95,8 @@ class OnboardInputs:
     orders: Sequence[GroundOrder]
     stop: Sequence[bool] | None = None
     """Per drone: the process is being stopped (SIGTERM, Ctrl-C) and must leave at this step."""
+    ranging: Sequence[NeighbourRanging | None] = ()
+    """Each drone's newest relative-position measurement of its neighbours (None before the first; empty: none)."""
 
 
 @dataclass(frozen=True)
@@ -106,6 +114,8 @@ class OnboardState:
     """Each drone's last trusted edge (:mod:`vehicle_agents.perception.edge_trust`)."""
     refused_copies: tuple[int, ...] = ()
     """Each drone's count of relayed copies refused as impossible (:mod:`vehicle_agents.core.relay_admission`)."""
+    positions: tuple[PositionCorrection, ...] = ()
+    """Each drone's estimate of its own odometry error (:mod:`vehicle_agents.core.cooperative_position`)."""
 
 
 @dataclass(frozen=True)
@@ -146,6 +156,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     tracks = list(state.tracks) if state.tracks else [EMPTY_BANK] * n
     trust = list(state.trust) if state.trust else [NO_TRUST] * n
     refused_copies = list(state.refused_copies) if state.refused_copies else [0] * n
+    positions = list(state.positions) if state.positions else [NO_CORRECTION] * n
     noise = filter_noise(params) if params.neighbour_filter else None
     timeout_s = table_hold_s(params) if noise is not None else params.neighbour_timeout_s
     actions: list[Action] = []
@@ -167,6 +178,9 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
                                                           timeout_s, noise, params)
         refused_copies[i] += refused
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
+        if corrects_odometry(params.cooperative_position, params.odometry_drift_frac, plan.has_gps[i]):
+            ranging = inputs.ranging[i] if inputs.ranging else None
+            own, positions[i] = _corrected(own, positions[i], ranging, heard[i], tel.yaw_ned_rad, t_s, params)
         perception, trust[i] = trusted_result(inputs.perception[i], own.position_en_m, t_s, trust[i])
         if action is Action.FLY:
             tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
@@ -188,7 +202,7 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
     outputs = OnboardOutputs(tuple(actions), setpoints, yaws, tuple(messages))
     new_state = replace(state, phases=tuple(phases), memories=tuple(memories), heard=tuple(heard),
                         departed=tuple(departed), seq=tuple(seq), tracks=tuple(tracks), trust=tuple(trust),
-                        refused_copies=tuple(refused_copies))
+                        refused_copies=tuple(refused_copies), positions=tuple(positions))
     return outputs, new_state
 
 
@@ -205,6 +219,15 @@ def _hear(inbox: Inbox, heard: Mapping[int, HeardState], departed: frozenset[int
     if noise is not None:
         track = track_step(track, inbox.states, departed, vehicle_id, noise)
     return heard, departed, track, refused
+
+
+def _corrected(own: OwnState, correction: PositionCorrection, ranging: NeighbourRanging | None,
+               heard: Mapping[int, HeardState], yaw_ned_rad: float, t_s: float, params: ControlParams
+               ) -> tuple[OwnState, PositionCorrection]:
+    """The drone's own state on its corrected position, and the correction after this step's ranging."""
+    correction = correction_step(correction, own.position_en_m, own.velocity_en_mps, yaw_ned_rad, ranging, heard, t_s,
+                                 params.odometry_drift_frac, params.ranging_sigma_m)
+    return replace(own, position_en_m=correction.corrected(own.position_en_m)), correction
 
 
 def _neighbour_infos(table: Mapping[int, HeardState], track: TrackBank, t_s: float, noise: FilterNoise | None,
