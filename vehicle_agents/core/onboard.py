@@ -2,7 +2,9 @@
 
 The order inside a step is the agent's: decide the flight phase from telemetry and the ground station's order
 (:func:`vehicle_agents.flight_phase.next_phase`), file the inbox into the neighbour table
-(:mod:`vehicle_agents.core.neighbours`), run the control law of the drone's role when the phase says fly
+(:mod:`vehicle_agents.core.neighbours`), correct a GPS-less drone's drifting odometry from the relative positions
+it senses of its neighbours (:mod:`vehicle_agents.core.cooperative_position`; its position is then the corrected
+one everywhere below), run the control law of the drone's role when the phase says fly
 (:func:`vehicle_agents.control.step.control_step`: eq 8 + Algorithm 1, eq 9, eq 10) on the camera result it trusts
 (:mod:`vehicle_agents.perception.edge_trust`: one frame contradicting a recent edge is held, not obeyed), and
 build the state message it broadcasts (:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled
