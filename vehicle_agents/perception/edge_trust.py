@@ -43,22 +43,15 @@ class TrustLimits:
     in_view_fraction: float = 0.35
     """A one-class frame is doubted while the last edge lies within this share of the footprint side from the point
     below the drone across the normal (well inside the image, which reaches half the side)."""
-    reference_s: float = 0.5
-    """The turn test compares with the mean direction of the normals trusted over this long [s], not the last one
-    alone: a misread frame that slipped inside the turn allowance then cannot make the right frames after it look
-    turned (a shadow's edge trusted once had the drone doubt the shore for a second and fly 1 m into the flood)."""
 
 
 @dataclass(frozen=True)
 class EdgeTrust:
-    """The last edge a drone trusted: a point of it [m; mission E, N], the reference normal (water to land: the
-    mean direction of the normals trusted over ``TrustLimits.reference_s``), and when; ``recent_normals`` holds
-    those normals as (t_s, east, north)."""
+    """The last edge a drone trusted: a point of it [m; mission E, N], its normal (water to land), and when."""
 
     edge_en_m: tuple[float, float] | None = None
     normal_en: tuple[float, float] | None = None
     t_s: float = -math.inf
-    recent_normals: tuple[tuple[float, float, float], ...] = ()
 
 
 NO_TRUST = EdgeTrust()
@@ -89,24 +82,12 @@ def trusted_result(result: PerceptionResult | None, own_en_m: np.ndarray, t_s: f
         normal = np.asarray(result.edge_normal_en, float)
         if recent and _contradicts(point, normal, t_s, trust, limits):
             return PerceptionResult.no_measurement(result.footprint_side_m), trust
-        return result, _trusting(point, normal, t_s, trust, limits)
+        return result, EdgeTrust(point, (float(normal[0]), float(normal[1])), t_s)
     if (result.only_land or result.only_water) and recent:
         across_m = abs(float(np.subtract(own_en_m, trust.edge_en_m) @ np.asarray(trust.normal_en)))
         if across_m <= limits.in_view_fraction * result.footprint_side_m:
             return PerceptionResult.no_measurement(result.footprint_side_m), trust
     return result, trust
-
-
-def _trusting(point: tuple[float, float], normal: np.ndarray, t_s: float, trust: EdgeTrust,
-              limits: TrustLimits) -> EdgeTrust:
-    """The memory after trusting an edge: its point and time, and the reference normal over the recent ones."""
-    unit = normal / max(float(np.hypot(normal[0], normal[1])), 1e-12)
-    recent = tuple(entry for entry in trust.recent_normals if t_s - entry[0] <= limits.reference_s)
-    recent += ((t_s, float(unit[0]), float(unit[1])),)
-    mean = np.sum([entry[1:] for entry in recent], axis=0)
-    length = float(np.hypot(mean[0], mean[1]))
-    reference = mean / length if length > 1e-9 else unit
-    return EdgeTrust(point, (float(reference[0]), float(reference[1])), t_s, recent)
 
 
 def _contradicts(point: tuple[float, float], normal: np.ndarray, t_s: float, trust: EdgeTrust,
