@@ -76,6 +76,11 @@ def velocity_command(v: VehicleState, t_s: float) -> tuple[NDArray[np.float64], 
         return command, nan, 0.0
     if mode == Px4Mode.AUTO_RTL:
         return _rtl_command(v, up, down), nan, 0.0
+    if v.landed_for(0.0):
+        # A multicopter armed on the ground in Hold (or a manual mode without stick input) stays there at idle until
+        # a take-off is commanded, as PX4 does: holding its noisy altitude estimate would lift it and make the land
+        # detector report it airborne, and a client that sees "in air" never sends the take-off.
+        return np.zeros(3), nan, 0.0
     command = _goto(v, v.hold_ned, cruise_speed_mps(v), up, down)
     if mode in _HOLD_ALTITUDE_MODES:
         command[:2] = 0.0

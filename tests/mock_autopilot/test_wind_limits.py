@@ -82,3 +82,23 @@ def test_altitude_noise_on_the_ground_is_no_take_off() -> None:
         texts += [o.message.text for o in vehicle.tick(k * 0.05) if o.message.get_type() == "STATUSTEXT"]
     assert not vehicle.took_off and not vehicle.armed
     assert any("preflight" in str(t) for t in texts) and not any("landing" in str(t) for t in texts)
+
+
+def test_armed_in_hold_on_the_ground_a_noisy_barometer_never_reads_airborne() -> None:
+    """PX4 keeps an armed multicopter at idle on the ground in Hold until a take-off: the land detector keeps saying
+    "on ground", so a client (MAVSDK's in_air) sends its take-off; before, holding the noisy altitude estimate
+    lifted the body and the vehicle reported itself in the air."""
+    from mock_autopilot.commander import arm
+    from comms.px4 import LandedState
+
+    vehicle = Vehicle(VehicleConfig(0, weather=Weather(WindSpec(speed_mps=5.0), SensorSpec(altitude_sigma_m=0.2),
+                                                       seed=3)))
+    for k in range(1, 40):
+        vehicle.tick(k * 0.05)
+    arm(vehicle, 2.0)
+    states = []
+    for k in range(41, 200):
+        vehicle.tick(k * 0.05)
+        states.append(vehicle.landed_state)
+    assert vehicle.armed and vehicle.on_ground()
+    assert set(states) == {LandedState.ON_GROUND}
