@@ -27,6 +27,7 @@ from comms.messages import HeardState, NeighbourRanging, NeighbourState
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
+from vehicle_agents.control.hover import hover_velocity
 from vehicle_agents.control.types import NeighbourInfo, OwnState
 from vehicle_agents.core.cooperative_position import (
     NO_CORRECTION,
@@ -191,6 +192,8 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
                                                  max(0.0, t_s - start_s))
             setpoints[i] = velocity_ned(velocity)
             yaws[i] = float(velocity.yaw_ned_rad)
+        elif action is Action.HOVER:
+            setpoints[i] = velocity_ned(hover_velocity(own, plan.pads_en_m[i], plan.limits.takeoff_altitude_m))
         if not inputs.telemetry.heard(i):
             messages.append(None)
             continue
