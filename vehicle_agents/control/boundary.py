@@ -65,8 +65,8 @@ def boundary_step(
     if offset is not None and perception is not None and perception.edge_tangent_en is not None:
         tangent = np.asarray(perception.edge_tangent_en, dtype=float)
         normal = np.asarray(perception.edge_normal_en, dtype=float)
-        edge_points = q[None, :] + continuous_edge_points(perception.edge_points_en_m, tangent, normal,
-                                                          perception.footprint_side_m)
+        reported = perception.edge_points_en_m if perception.shore_points_en_m is None else perception.shore_points_en_m
+        edge_points = q[None, :] + continuous_edge_points(reported, tangent, normal, perception.footprint_side_m)
     edge_rate = update_edge_rate(memory.edge_rate, None if offset is None else q + offset, t_s, params.pdot_filter_time_s)
 
     leading = is_leading(entry, boundary_nbrs, params)

@@ -21,16 +21,20 @@ high class is rougher than the low one, it is glint on water, kept as water, and
 
 The split is accepted when the water class is clearly smoother than the land class and smooth in absolute terms
 (the log variance of a flat surface under the camera's noise); otherwise the frame is one class, water when it is
-that smooth.
+that smooth. An accepted split's shore is also placed again by colour (:mod:`vehicle_agents.perception.shore`): the
+texture's window puts the split's boundary 1-3 px into the water; what the drone reports of the shore is read there.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
+
+from vehicle_agents.perception.shore import refine_shore
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -148,10 +152,28 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
     return score8, threshold
 
 
+@dataclass(frozen=True)
+class ShoreByColour:
+    """An accepted split's shore placed again by colour: its (H, W) water mask, the colour score and the level
+    half-way between the water's and the land's beside the shore (:func:`vehicle_agents.perception.shore.refine_shore`)."""
+
+    mask: NDArray[np.bool_]
+    score: NDArray[np.float32]
+    threshold: float
+
+
 def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
     """(water mask or None for a one-class frame, 8-bit score, threshold) for a valid (H, W, 3) uint8 image; a
     one-class frame's threshold puts the frame's mean score above it when the frame is water. The split is found at
     half resolution; the mask is the full-resolution (bilinear) score over the same threshold."""
+    mask, score, threshold, _ = grey_water_with_shore(image_bgr)
+    return mask, score, threshold
+
+
+def grey_water_with_shore(image_bgr: NDArray[np.uint8]
+                          ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float, ShoreByColour | None]:
+    """:func:`grey_water` and, for an accepted split, its shore placed by colour (None when the colour cannot
+    place it, or for a one-class frame)."""
     smooth = cv2.medianBlur(image_bgr, 3)
     grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
     cues = cue_stack(smooth, grey8)
@@ -173,12 +195,14 @@ def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, 
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
             min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            return water.view(bool), full, threshold + 0.5
+            refined = refine_shore(water, smooth, cv2.LUT(grey8, _LOG_TABLE), std.ravel()[[0, 1, 3]].astype(np.float32))
+            shore = None if refined is None else ShoreByColour(_open_close(refined[0]).view(bool), *refined[1:])
+            return water.view(bool), full, threshold + 0.5, shore
         if not inside:
             frame_tex = water_tex if fraction > 0.5 else land_tex
     mean_score = float(cv2.mean(full)[0])
     water = frame_tex < WATER_TEXTURE_MAX and coarse_texture(image_bgr) < COARSE_WATER_TEXTURE_MAX
-    return None, full, mean_score - 1.0 if water else mean_score + 1.0
+    return None, full, mean_score - 1.0 if water else mean_score + 1.0, None
 
 
 def _open_close(water: NDArray[np.uint8]) -> NDArray[np.uint8]:

@@ -31,6 +31,10 @@ class PerceptionResult:
     """Unit vector along the edge with water on its left (counter-clockwise round the flood)."""
     edge_points_en_m: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
     """Boundary pixels seen, as (K, 2) offsets from the drone [m; east, north]."""
+    shore_points_en_m: NDArray[np.float64] | None = None
+    """Where the grey-water cue split the frame: the shore placed again by colour at full resolution
+    (:mod:`vehicle_agents.perception.shore`), (K, 2) offsets like the edge points, what the drone reports of the
+    shore; None where the edge points are the shore already (the blue cue)."""
     water_centroid_px: NDArray[np.float64] | None = None
     """Water centroid in the image [px; column, row from the top-left corner, pixel centres at +0.5]."""
     land_centroid_px: NDArray[np.float64] | None = None

@@ -23,7 +23,8 @@ from numpy.typing import NDArray
 
 from comms.camera_projection import pixel_to_ground, project_pixels
 from vehicle_agents.perception.result import PerceptionResult
-from vehicle_agents.perception.water_mask import segment_water
+from vehicle_agents.perception.grey_water import ShoreByColour
+from vehicle_agents.perception.water_mask import segment_water, segment_water_with_shore  # noqa: F401 (segment_water named here too)
 
 MIN_SIDE_PX = 8
 """Smallest image side accepted [px]."""
@@ -102,7 +103,7 @@ def _perceive(
     to_ground = pixel_to_ground(w, h, fov_deg, altitude_m, *attitude_rad)
     if to_ground is None or _unusable_exposure(image):
         return PerceptionResult.no_measurement(footprint_m)
-    mask, score, threshold = segment_water(image, ground_sample_m=footprint_m / w)
+    mask, score, threshold, shore = segment_water_with_shore(image, ground_sample_m=footprint_m / w)
     water_fraction = cv2.countNonZero(mask.view(np.uint8)) / mask.size if mask is not None else float(
         float(score.mean()) > threshold)
     if not MIN_CLASS_FRACTION <= water_fraction <= 1.0 - MIN_CLASS_FRACTION:
@@ -110,13 +111,15 @@ def _perceive(
         return PerceptionResult(has_edge=False, water_fraction=float(water_fraction), only_land=not only_water,
                                 only_water=only_water, footprint_side_m=footprint_m, ground_sample_m=footprint_m / w)
     assert mask is not None  # a one-class frame has a fraction of 0 or 1
-    return _edge_result(mask, score, threshold, to_ground, footprint_m, max_edge_points)
+    return _edge_result(mask, score, threshold, to_ground, footprint_m, max_edge_points, shore)
 
 
 def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: float,
-                 to_ground: NDArray[np.float64], footprint_m: float, max_edge_points: int) -> PerceptionResult:
+                 to_ground: NDArray[np.float64], footprint_m: float, max_edge_points: int,
+                 shore: ShoreByColour | None = None) -> PerceptionResult:
     """What a frame holding both classes tells: centroids and their midpoint (eq 5's ``p − q``), the edge points,
-    its normal (water to land) and tangent (water on the left), all on the ground."""
+    its normal (water to land) and tangent (water on the left), all on the ground; and the shore points placed by
+    colour when the grey-water cue split the frame."""
     h, w = mask.shape
     n = h * w
     n_water, sum_x, sum_y = _water_moments(mask)
@@ -142,11 +145,20 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
         edge_normal_en=normal,
         edge_tangent_en=tangent,
         edge_points_en_m=_along_the_edge(edge_en, tangent, max_edge_points),
+        shore_points_en_m=None if shore is None else _shore_points(shore, to_ground, tangent, max_edge_points),
         water_centroid_px=water_px,
         land_centroid_px=land_px,
         ground_sample_m=footprint_m / w,
         water_mask=mask,
     )
+
+
+def _shore_points(shore: ShoreByColour, to_ground: NDArray[np.float64], tangent: NDArray[np.float64],
+                  max_points: int) -> NDArray[np.float64]:
+    """The shore placed by colour as points on the ground, ordered along the edge like the edge points."""
+    shore_px = _edge_points_px(shore.mask, shore.score, shore.threshold)
+    shore_en = project_pixels(to_ground, shore_px[:, 0], shore_px[:, 1]) if len(shore_px) else np.zeros((0, 2))
+    return _along_the_edge(shore_en, tangent, max_points)
 
 
 def _water_moments(mask: NDArray[np.bool_]) -> tuple[float, float, float]:

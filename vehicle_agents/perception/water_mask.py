@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from vehicle_agents.perception.grey_water import grey_water
+from vehicle_agents.perception.grey_water import ShoreByColour, grey_water_with_shore
 from vehicle_agents.perception.water_holes import fill_small_land_holes
 
 NEUTRAL_BLUENESS = 128.0
@@ -39,6 +39,13 @@ _BLUENESS_ROW = np.array([[1.0, -0.5, -0.5, 128.0]], np.float32)
 
 def segment_water(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.nan
                   ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
+    """:func:`segment_water_with_shore` without the shore placed by colour."""
+    mask, score, threshold, _ = segment_water_with_shore(image_bgr, ground_sample_m)
+    return mask, score, threshold
+
+
+def segment_water_with_shore(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.nan
+                             ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float, ShoreByColour | None]:
     """(water mask or None for a one-class frame, score image, threshold) for a valid (H, W, 3) uint8 image.
 
     Water is the high side of the threshold on the score: the blueness when the frame's water mirrors a blue sky
@@ -48,20 +55,21 @@ def segment_water(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.na
     than neutral is water). A faint blue sliver
     the grey cue cannot see (it calls the frame land) is kept: glint, the other small near-blue thing in a frame,
     lies on water the grey cue finds. ``ground_sample_m`` [m/px], when given, lets the blue cue take the floating
-    debris inside its water as water (:func:`vehicle_agents.perception.water_holes.fill_small_land_holes`).
+    debris inside its water as water (:func:`vehicle_agents.perception.water_holes.fill_small_land_holes`). The
+    fourth item is the grey-water split's shore placed again by colour (None for the blue cue, which has no bias).
     """
     blue = _blue_water(image_bgr, ground_sample_m)
     if blue is not None and blue[0] is None:
-        return blue
+        return (*blue, None)
     if blue is not None and blue[0] is not None:
         water = blue[0].view(np.uint8)
         fraction = cv2.countNonZero(water) / water.size
         if (MIN_BLUE_SPLIT_FRACTION <= fraction <= 1.0 - MIN_BLUE_SPLIT_FRACTION
                 or cv2.mean(blue[1], mask=water)[0] >= NEUTRAL_BLUENESS + MIN_SLIVER_BLUENESS):
-            return blue
-    grey = grey_water(image_bgr)
+            return (*blue, None)
+    grey = grey_water_with_shore(image_bgr)
     if grey[0] is None and blue is not None and blue[0] is not None and float(cv2.mean(grey[1])[0]) < grey[2]:
-        return blue
+        return (*blue, None)
     return grey
 
 

@@ -1,0 +1,92 @@
+"""Placing the grey-water shore by colour, and which small classes count as an edge (pure functions, synthetic
+frames: two flat colours with texture on the land, the step at a known column)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vehicle_agents.perception.grey_water import _small_class_reaches_side
+from vehicle_agents.perception.shore import BAND_PX, refine_shore
+
+SIZE = 96
+STEP_COLUMN = 50
+"""Columns ``< STEP_COLUMN`` are water, the rest land."""
+WATER_BGR = (100, 136, 160)
+"""Tan, lighter and a little bluer in chromaticity than the soil (turbid floodwater)."""
+SOIL_BGR = (70, 98, 128)
+
+
+def turbid_shore(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(3x3-median-like frame, its log grey, the spread of its three colour cues) with a vertical shore at
+    ``STEP_COLUMN``: smooth water, textured soil."""
+    rng = np.random.default_rng(seed)
+    frame = np.empty((SIZE, SIZE, 3), np.float64)
+    frame[:, :STEP_COLUMN] = WATER_BGR
+    frame[:, STEP_COLUMN:] = SOIL_BGR
+    frame[:, STEP_COLUMN:] *= 1.0 + 0.12 * rng.standard_normal((SIZE, SIZE - STEP_COLUMN, 1))
+    frame += rng.normal(0.0, 1.5, frame.shape)
+    image = np.clip(np.rint(frame), 0, 255).astype(np.uint8)
+    return (image,) + cues_of(image)
+
+
+def cues_of(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(log grey, std of chromaticity, saturation and log grey over the frame)."""
+    pixels = image.astype(np.float64)
+    log_grey = np.log(np.rint(pixels @ np.array([0.114, 0.587, 0.299])) + 1.0).astype(np.float32)
+    total = pixels.sum(axis=2) + 9.0
+    chromaticity = (pixels[..., 0] + 3.0) / total
+    saturation = (pixels.max(axis=2) - pixels.min(axis=2)) / total
+    return log_grey, np.array([chromaticity.std(), saturation.std(), log_grey.std()], np.float32)
+
+
+def test_a_split_boundary_inside_the_water_is_moved_back_to_the_colour_step() -> None:
+    for seed in range(4):
+        image, log_grey, spread = turbid_shore(seed)
+        for offset_px in (-2, 0, 2):  # the split's boundary 2 px into the water, on the shore, 2 px into the land
+            coarse = np.zeros((SIZE, SIZE), np.uint8)
+            coarse[:, : STEP_COLUMN + offset_px] = 1
+            refined = refine_shore(coarse, image, log_grey, spread)
+            assert refined is not None
+            mask, score, threshold = refined
+            water_columns = mask.sum(axis=1)
+            assert np.all(np.abs(water_columns - STEP_COLUMN) <= 1), (seed, offset_px, water_columns)
+            assert abs(float(water_columns.mean()) - STEP_COLUMN) < 0.2
+            assert np.all(score[:, STEP_COLUMN - 2] > threshold) and np.all(score[:, STEP_COLUMN + 1] < threshold)
+
+
+def test_only_pixels_near_the_split_boundary_change() -> None:
+    image, log_grey, spread = turbid_shore(7)
+    coarse = np.zeros((SIZE, SIZE), np.uint8)
+    coarse[:, : STEP_COLUMN - 2] = 1
+    coarse[40:44, 80:84] = 1  # a speck of "water" far out in the land: its own band is reclassified (as land)
+    refined = refine_shore(coarse, image, log_grey, spread)
+    assert refined is not None
+    mask = refined[0]
+    far = np.ones((SIZE, SIZE), bool)
+    far[:, STEP_COLUMN - 2 - BAND_PX : STEP_COLUMN - 2 + BAND_PX] = False
+    far[40 - BAND_PX : 44 + BAND_PX, 80 - BAND_PX : 84 + BAND_PX] = False
+    assert np.array_equal(mask[far], coarse[far])
+    assert not mask[40:44, 80:84].any()
+
+
+def test_no_refinement_when_colour_does_not_tell_the_sides_apart() -> None:
+    image, _, _ = turbid_shore(3)
+    image[:] = SOIL_BGR  # one colour everywhere: no step to place the shore on
+    log_grey, spread = cues_of(image)
+    coarse = np.zeros((SIZE, SIZE), np.uint8)
+    coarse[:, :STEP_COLUMN] = 1
+    assert refine_shore(coarse, image, log_grey, spread) is None
+    assert refine_shore(np.ones((SIZE, SIZE), np.uint8), image, log_grey, spread) is None  # no land ring at all
+
+
+def test_a_small_class_counts_only_when_it_reaches_a_side_of_the_frame() -> None:
+    water = np.zeros((SIZE, SIZE), np.uint8)
+    water[40:48, 40:48] = 1  # a blob wholly inside
+    assert not _small_class_reaches_side(water, float(water.mean()))
+    water[40:48, 0:6] = 1  # and a sliver at the left side
+    assert _small_class_reaches_side(water, float(water.mean()))
+    land = np.ones((SIZE, SIZE), np.uint8)
+    land[50:56, 50:56] = 0  # an island wholly inside the water
+    assert not _small_class_reaches_side(land, float(land.mean()))
+    land[-3:, 20:30] = 0  # land reaching the bottom side
+    assert _small_class_reaches_side(land, float(land.mean()))
