@@ -262,13 +262,14 @@ class MissionCommand(msgspec.Struct, frozen=True, omit_defaults=True, tag_field=
     params: dict[str, float] = {}
 
 
-Message = Union[NeighbourState, CameraFrame, NeighbourRanging, BoundaryEdgePoints, GroundTruth, MissionCommand, RadioLinkStats, RadioBundle,
-                RadioGroupBundle, PeerEvent,
+Message = Union[NeighbourState, CameraFrame, NeighbourRanging, BoundaryEdgePoints, GroundTruth, MissionCommand,
+                RadioLinkStats, RadioBundle, RadioGroupBundle, PeerEvent,
                 SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport,
                 MissionEvent, OperatorRequest, FloodEdgeTruth]
-M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, NeighbourRanging, BoundaryEdgePoints, GroundTruth, MissionCommand,
-            RadioLinkStats, RadioBundle, RadioGroupBundle, PeerEvent, SecurityEvent, SimClockTick, PaceAck, PaceReport, CameraStats,
-            FloodPolygon, VehicleStatusReport, MissionEvent, OperatorRequest, FloodEdgeTruth)
+M = TypeVar("M", NeighbourState, NeighbourStateForControl, CameraFrame, NeighbourRanging, BoundaryEdgePoints,
+            GroundTruth, MissionCommand, RadioLinkStats, RadioBundle, RadioGroupBundle, PeerEvent, SecurityEvent,
+            SimClockTick, PaceAck, PaceReport, CameraStats, FloodPolygon, VehicleStatusReport, MissionEvent,
+            OperatorRequest, FloodEdgeTruth)
 
 # Largest payload accepted per kind [bytes]: anything larger is dropped before parsing.
 MAX_PAYLOAD_BYTES: dict[type, int] = {

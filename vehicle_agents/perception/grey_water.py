@@ -155,7 +155,8 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
 @dataclass(frozen=True)
 class ShoreByColour:
     """An accepted split's shore placed again by colour: its (H, W) water mask, the colour score and the level
-    half-way between the water's and the land's beside the shore (:func:`vehicle_agents.perception.shore.refine_shore`)."""
+    half-way between the water's and the land's beside the shore
+    (:func:`vehicle_agents.perception.shore.refine_shore`)."""
 
     mask: NDArray[np.bool_]
     score: NDArray[np.float32]
