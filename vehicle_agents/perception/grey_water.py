@@ -163,18 +163,12 @@ class ShoreByColour:
     threshold: float
 
 
-def grey_water(image_bgr: NDArray[np.uint8]) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float]:
-    """(water mask or None for a one-class frame, 8-bit score, threshold) for a valid (H, W, 3) uint8 image; a
-    one-class frame's threshold puts the frame's mean score above it when the frame is water. The split is found at
-    half resolution; the mask is the full-resolution (bilinear) score over the same threshold."""
-    mask, score, threshold, _ = grey_water_with_shore(image_bgr)
-    return mask, score, threshold
-
-
 def grey_water_with_shore(image_bgr: NDArray[np.uint8]
                           ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float, ShoreByColour | None]:
-    """:func:`grey_water` and, for an accepted split, its shore placed by colour (None when the colour cannot
-    place it, or for a one-class frame)."""
+    """(water mask or None for a one-class frame, 8-bit score, threshold, shore placed by colour) for a valid
+    (H, W, 3) uint8 image; a one-class frame's threshold puts the frame's mean score above it when the frame is water.
+    The split is found at half resolution; the mask is the full-resolution (bilinear) score over the same threshold.
+    The shore is None for a one-class frame or when colour cannot place it."""
     smooth = cv2.medianBlur(image_bgr, 3)
     grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
     cues = cue_stack(smooth, grey8)

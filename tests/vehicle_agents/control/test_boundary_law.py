@@ -99,3 +99,19 @@ def test_stale_neighbours_and_bad_input_are_ignored() -> None:
     assert np.allclose(with_them.velocity_enu_mps, without.velocity_enu_mps)
     command, _ = control_step("boundary", memory, OwnState(q, 10.0), PerceptionResult.no_measurement(), [], params, 0.0)
     assert np.all(np.isfinite(command.velocity_enu_mps))
+
+
+def test_the_drone_steers_on_the_edge_points_and_reports_the_colour_shore() -> None:
+    """Where perception placed the shore again by colour, the reported points are those; the velocity is the one
+    the split's edge points give, the same as without them."""
+    params = ControlParams(mode="improved", roster=ROSTER, encircle_speed_mps=1.0, edge_point_tracking=True)
+    q = np.array([12.0, 0.0])
+    own = OwnState(q.copy(), 10.0, np.zeros(2))
+    seen = circle_perception(q, 10.0, 12.0)
+    shore = seen.edge_points_en_m + np.array([0.2, 0.0])
+    with_shore = PerceptionResult(**{**seen.__dict__, "shore_points_en_m": shore})
+    plain_command, plain = control_step("boundary", initial_memory("boundary", 1, params), own, seen, [], params, 0.0)
+    command, memory = control_step("boundary", initial_memory("boundary", 1, params), own, with_shore, [], params, 0.0)
+    assert np.array_equal(command.velocity_enu_mps, plain_command.velocity_enu_mps)
+    assert np.allclose(memory.edge_points_en_m.mean(axis=0) - plain.edge_points_en_m.mean(axis=0), [0.2, 0.0],
+                       atol=0.05)

@@ -1,11 +1,11 @@
-"""Placing the grey-water shore by colour, and which small classes count as an edge (pure functions, synthetic
-frames: two flat colours with texture on the land, the step at a known column)."""
+"""Placing the grey-water shore by colour (pure function, synthetic frames: two flat colours with texture on the
+land, the step at a known column)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from vehicle_agents.perception.grey_water import _small_class_reaches_side
+from vehicle_agents.perception.segmentation import perceive
 from vehicle_agents.perception.shore import BAND_PX, refine_shore
 
 SIZE = 96
@@ -79,14 +79,15 @@ def test_no_refinement_when_colour_does_not_tell_the_sides_apart() -> None:
     assert refine_shore(np.ones((SIZE, SIZE), np.uint8), image, log_grey, spread) is None  # no land ring at all
 
 
-def test_a_small_class_counts_only_when_it_reaches_a_side_of_the_frame() -> None:
-    water = np.zeros((SIZE, SIZE), np.uint8)
-    water[40:48, 40:48] = 1  # a blob wholly inside
-    assert not _small_class_reaches_side(water, float(water.mean()))
-    water[40:48, 0:6] = 1  # and a sliver at the left side
-    assert _small_class_reaches_side(water, float(water.mean()))
-    land = np.ones((SIZE, SIZE), np.uint8)
-    land[50:56, 50:56] = 0  # an island wholly inside the water
-    assert not _small_class_reaches_side(land, float(land.mean()))
-    land[-3:, 20:30] = 0  # land reaching the bottom side
-    assert _small_class_reaches_side(land, float(land.mean()))
+
+def test_perceive_reports_the_colour_shore_where_the_grey_split_sits_in_the_water() -> None:
+    """On a turbid shore the split's edge points lie inside the water (west of the step); the shore points
+    perception gives for the report lie at the step, within a pixel."""
+    for seed in range(3):
+        image, _, _ = turbid_shore(seed)
+        result = perceive(image, 10.0, 60.0, 0.0)
+        assert result.has_edge and result.shore_points_en_m is not None
+        step_east_m = (STEP_COLUMN - SIZE / 2) * result.ground_sample_m
+        shore_error_m = abs(float(np.mean(result.shore_points_en_m[:, 0])) - step_east_m)
+        edge_error_m = abs(float(np.mean(result.edge_points_en_m[:, 0])) - step_east_m)
+        assert shore_error_m < result.ground_sample_m < edge_error_m
