@@ -33,7 +33,8 @@ from mock_autopilot.camera.truth import ACCURACY_FLOODS, median_distance_to_shor
 from mock_autopilot.world.config import flood_model_from_config
 from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
-from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
+from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive
+from vehicle_agents.perception.water_mask import segment_water
 
 Pose = tuple[float, tuple[float, float, float], float]
 """(flood time [s], position [m; ENU], PX4 yaw [rad])."""

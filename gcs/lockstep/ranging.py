@@ -32,7 +32,7 @@ class LockstepRanging:
                  seed: int) -> LockstepRanging:
         """Every drone that corrects its odometry with it measures (without GPS, drifting, improved mode)."""
         carriers = [i for i, gps in enumerate(has_gps)
-                    if spec.ranging_range_m > 0.0
+                    if spec.ranging_used
                     and corrects_odometry(params.cooperative_position, params.odometry_drift_frac, bool(gps))]
         return cls(vehicle_ids, carriers, spec, seed, [None] * len(vehicle_ids))
 

@@ -99,14 +99,18 @@ def _readings(odometry_at_ranging_en_m: NDArray[np.float64], yaw_ned_rad: float,
     """(K, 2) readings of the drone's own odometry error, one per ranged neighbour that flies on odometry too and
     was heard recently enough."""
     offsets_en_m = body_fr_to_en(np.asarray(ranging.forward_right_m, dtype=float).reshape(-1, 2), yaw_ned_rad)
-    rows = []
-    for neighbour_id, offset in zip(ranging.neighbour_ids, offsets_en_m):
+    used, positions, velocities, ages = [], [], [], []
+    for row, neighbour_id in enumerate(ranging.neighbour_ids):
         msg = heard.get(neighbour_id)
         if msg is None or msg.has(FLAG_HAS_GPS) or msg.has(FLAG_LEAVING):
             continue
         age_s = ranging.t_s - msg.t_s
-        if abs(age_s) > _MAX_MESSAGE_AGE_S:
-            continue
-        believed_en_m = np.asarray(msg.position_en_m, dtype=float) + np.asarray(msg.velocity_en_mps) * age_s
-        rows.append(odometry_at_ranging_en_m - (believed_en_m - offset))
-    return np.asarray(rows, dtype=float).reshape(-1, 2)
+        if abs(age_s) <= _MAX_MESSAGE_AGE_S:
+            used.append(row)
+            positions.append(msg.position_en_m)
+            velocities.append(msg.velocity_en_mps)
+            ages.append(age_s)
+    if not used:
+        return np.zeros((0, 2))
+    believed_en_m = np.asarray(positions, dtype=float) + np.asarray(velocities, dtype=float) * np.asarray(ages)[:, None]
+    return odometry_at_ranging_en_m - (believed_en_m - offsets_en_m[used])

@@ -52,11 +52,8 @@ def continuous_edge_points(points_en_m: NDArray[np.float64], tangent_en: NDArray
     if steps_ok.all():
         return points
     band = max(footprint_side_m / 6.0, 0.5)
-    middle = np.sort(across_m[np.abs(along_m) <= band])
-    if middle.size == 0:
-        middle = np.sort(across_m)
-    half = middle.size // 2
-    anchor = float(middle[half]) if middle.size % 2 else 0.5 * float(middle[half - 1] + middle[half])
+    middle = across_m[np.abs(along_m) <= band]
+    anchor = float(np.median(middle if middle.size else across_m))
     start = int(np.argmin(along_m * along_m + (across_m - anchor) ** 2))
     along, across = along_m.tolist(), across_m.tolist()
     keep = [False] * len(along)

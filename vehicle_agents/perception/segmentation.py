@@ -24,7 +24,6 @@ from numpy.typing import NDArray
 from comms.camera_projection import pixel_to_ground, project_pixels
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.grey_water import ShoreByColour
-from vehicle_agents.perception.water_mask import segment_water  # noqa: F401 (named here too)
 from vehicle_agents.perception.water_mask import segment_water_with_shore
 
 MIN_SIDE_PX = 8

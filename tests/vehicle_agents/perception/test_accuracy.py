@@ -24,7 +24,8 @@ from mock_autopilot.world.flood_model import FloodModel
 from mock_autopilot.world.ground import height_above_ground_m
 from gcs.scenario import load_scenario
 from vehicle_agents.perception.result import PerceptionResult
-from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive, segment_water
+from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive
+from vehicle_agents.perception.water_mask import segment_water
 
 FRAMES_PER_MODEL = 200
 
