@@ -22,8 +22,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from comms.camera_projection import pixel_to_ground, project_pixels
-from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.grey_water import ShoreByColour
+from vehicle_agents.perception.main_boundary import main_boundary_points
+from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.water_mask import segment_water_with_shore
 
 MIN_SIDE_PX = 8
@@ -127,7 +128,7 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     water_px = np.array([sum_x / n_water + 0.5, sum_y / n_water + 0.5])
     land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
     water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px)
-    edge_px = _edge_points_px(mask, score, threshold)
+    edge_px = main_boundary_points(_edge_points_px(mask, score, threshold), mask.shape)
     edge_en = project_pixels(to_ground, edge_px[:, 0], edge_px[:, 1]) if len(edge_px) else np.zeros((0, 2))
     normal = _edge_normal(edge_en, land_en - water_en)
     if normal is None:
@@ -156,7 +157,7 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
 def _shore_points(shore: ShoreByColour, to_ground: NDArray[np.float64], tangent: NDArray[np.float64],
                   max_points: int) -> NDArray[np.float64]:
     """The shore placed by colour as points on the ground, ordered along the edge like the edge points."""
-    shore_px = _edge_points_px(shore.mask, shore.score, shore.threshold)
+    shore_px = main_boundary_points(_edge_points_px(shore.mask, shore.score, shore.threshold), shore.mask.shape)
     shore_en = project_pixels(to_ground, shore_px[:, 0], shore_px[:, 1]) if len(shore_px) else np.zeros((0, 2))
     return _along_the_edge(shore_en, tangent, max_points)
 
