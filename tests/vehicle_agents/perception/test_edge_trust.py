@@ -60,7 +60,7 @@ def test_one_frame_with_the_edge_metres_away_is_doubted_then_believed_when_it_la
     jumped = edge_frame(4.5)
     acted, held = trusted_result(jumped, np.array([10.0, 5.0]), 0.1, trust)
     assert not acted.has_edge and not acted.only_land and not acted.only_water, "hold: no edge, no climb"
-    assert held == trust
+    assert (held.edge_en_m, held.t_s) == (trust.edge_en_m, trust.t_s)
     later = TrustLimits().hold_s + 0.2
     acted, trust = trusted_result(jumped, np.array([10.0, 5.0]), later, held)
     assert acted is jumped and trust.t_s == later
@@ -73,10 +73,53 @@ def test_an_edge_turned_far_from_the_last_is_doubted_then_believed_when_it_lasts
     turned = turned_frame(np.radians(75.0))
     acted, held = trusted_result(turned, np.array([10.0, 5.0]), 0.1, trust)
     assert not acted.has_edge and not acted.only_land and not acted.only_water
-    assert held == trust
+    assert (held.edge_en_m, held.t_s) == (trust.edge_en_m, trust.t_s)
     later = TrustLimits().hold_s + 0.2
     acted, trust = trusted_result(turned, np.array([10.0, 5.0]), later, held)
     assert acted is turned and trust.t_s == later
+
+
+def test_an_edge_drifting_with_the_wind_is_never_believed_however_long_it_is_seen() -> None:
+    """A cloud shadow's edge read as the shore, drifting at 3 m/s across the drone's frames for 2 s: every frame is
+    doubted; the shore seen again afterwards is acted on at once."""
+    trust = seen_at(NO_TRUST, 0.0)
+    own = np.array([10.0, 5.0])
+    for k in range(1, 21):
+        t_s = 0.1 * k
+        acted, trust = trusted_result(edge_frame(2.5 + 3.0 * t_s), own, t_s, trust)
+        assert not acted.has_edge, f"the drifting edge was obeyed at {t_s:.1f} s"
+    shore = edge_frame(0.6)
+    acted, trust = trusted_result(shore, own, 2.1, trust)
+    assert acted is shore and trust.t_s == 2.1 and trust.candidate_en_m is None
+
+
+def test_a_trusted_frame_between_misread_ones_keeps_the_edge() -> None:
+    trust = seen_at(NO_TRUST, 0.0)
+    own = np.array([10.0, 5.0])
+    for k in range(1, 31):
+        t_s = 0.1 * k
+        frame = edge_frame(6.0) if k % 2 else edge_frame(0.5)
+        acted, trust = trusted_result(frame, own, t_s, trust)
+        assert acted.has_edge == (k % 2 == 0), f"frame at {t_s:.1f} s"
+
+
+def test_an_edge_seen_long_after_the_last_trusted_one_is_taken_when_near_it() -> None:
+    """A drone that has seen no edge it trusts for 3.5 s (searching, climbing) takes an edge 4 m from its last one:
+    the trusted edge's allowance has widened with its age past the hold."""
+    trust = seen_at(NO_TRUST, 0.0)
+    moved = edge_frame(4.5)
+    assert trusted_result(moved, np.array([10.0, 5.0]), 3.5, trust)[0] is moved
+
+
+def test_a_misread_frame_held_at_its_first_look_is_held_at_its_second() -> None:
+    """Frames come at half the control rate, so the same frame is judged twice, 50 ms apart; within the hold the
+    limit does not widen, so a frame just past it stays doubted."""
+    trust = seen_at(NO_TRUST, 0.0)
+    own = np.array([10.0, 5.0])
+    just_past = edge_frame(0.5 + TrustLimits().max_jump_m + 0.12)
+    first, trust = trusted_result(just_past, own, 0.10, trust)
+    second, trust = trusted_result(just_past, own, 0.15, trust)
+    assert not first.has_edge and not second.has_edge
 
 
 def test_an_edge_turning_as_a_bend_does_is_acted_on() -> None:
