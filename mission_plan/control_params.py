@@ -117,6 +117,12 @@ class ControlParams:
     """The drone's odometry drift [fraction of the distance flown]: its own sensor's figure (``[sensors]``)."""
     ranging_sigma_m: float = 0.1
     """σ per axis of the relative-position sensor [m] (``[sensors]``)."""
+    ranging_available: bool = False
+    """The drone's relative-position sensor is read (``[sensors]``: while position estimates err)."""
+    sensed_barrier: bool = False
+    """Improved: the collision barrier keeps clear of neighbours where the relative-position sensor sees them, not
+    where their broadcast and this drone's own estimate put them (a GPS fix 1 m off makes a pad neighbour 1.4 m
+    away look 2.3 m away); only while ``ranging_available``."""
     edge_point_tracking: bool = False
     """Improved: track the edge points the camera sees under the drone instead of the land/water midpoint."""
     roster: tuple[RosterEntry, ...] = field(default_factory=tuple)
@@ -196,6 +202,7 @@ _IMPROVED_DEFAULTS: dict[str, Any] = {
     "neighbour_filter": True,
     "relay_max_hops": 3,
     "cooperative_position": True,
+    "sensed_barrier": True,
 }
 
 

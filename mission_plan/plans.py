@@ -111,9 +111,7 @@ class CamerasPlan(msgspec.Struct, frozen=True, forbid_unknown_fields=True, tag_f
     wind_en_mps: tuple[float, float] = (0.0, 0.0)
     """Mean wind [m/s; east, north] the cloud shadows drift with (calm when the scenario has no ``[wind]``)."""
     sensors: SensorSpec = msgspec.field(default_factory=SensorSpec)
-    """The relative-position sensor the same process simulates for the drones without GPS (``ranging_*``)."""
-    gps_ids: tuple[int, ...] = ()
-    """The vehicles that carry GPS (they measure no neighbours)."""
+    """The relative-position sensor the same process simulates for every drone (``ranging_*``)."""
 
     def __post_init__(self) -> None:
         bad = sorted(role for role in self.roles.values() if role not in ROLES)
@@ -163,6 +161,5 @@ def cameras_plan(scenario: Scenario, mission: str | None = None) -> CamerasPlan:
         mission=mission or scenario.name, scenario=scenario.name, world=world_plan(scenario), camera=scenario.camera,
         roles={v.vehicle_id: v.role for v in scenario.vehicles}, imaging=scenario.imaging,
         wind_en_mps=mean_wind_en_mps(scenario), sensors=scenario.sensors,
-        gps_ids=tuple(v.vehicle_id for v in scenario.vehicles if v.has_gps),
     )
 

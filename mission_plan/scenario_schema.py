@@ -110,7 +110,7 @@ class Scenario:
             return params_for_mode(
                 mode, self.control, self.roster(), nominal_altitude_m=self.altitude_m, fov_deg=self.camera.fov_deg,
                 state_rate_hz=self.control_rate_hz, odometry_drift_frac=self.sensors.odometry_drift_frac,
-                ranging_sigma_m=self.sensors.ranging_sigma_m,
+                ranging_sigma_m=self.sensors.ranging_sigma_m, ranging_available=self.sensors.ranging_used,
             )
         except ControlParamsError as exc:
             raise ScenarioError(str(exc)) from None

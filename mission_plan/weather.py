@@ -43,8 +43,7 @@ class SensorSpec:
     """Estimator errors: GPS white σ and bias σ [m] with the bias time constant [s], altitude σ [m], heading σ
     [deg], odometry drift of vehicles without GPS [fraction of the distance flown]; and the relative-position sensor
     every drone carries (the paper's sensing of neighbours, §I): white σ per axis [m], range [m], rate [Hz]. Not part
-    of any weather preset: it is the drones' hardware (UWB-class figures), read by the drones without GPS only while
-    their odometry drifts."""
+    of any weather preset: it is the drones' hardware (UWB-class figures), read only while the estimates err."""
 
     gps_white_sigma_m: float = 0.0
     gps_bias_sigma_m: float = 0.0
@@ -63,8 +62,9 @@ class SensorSpec:
 
     @property
     def ranging_used(self) -> bool:
-        """The drones without GPS correct their drifting odometry by ranging their neighbours (and only then)."""
-        return self.odometry_drift_frac > 0.0 and self.ranging_range_m > 0.0
+        """The drones read their relative-position sensors while position estimates err (and only then): those
+        without GPS to correct drifting odometry, every drone of improved mode for its collision barrier."""
+        return not self.exact and self.ranging_range_m > 0.0
 
     @property
     def eph_m(self) -> float:

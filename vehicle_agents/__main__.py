@@ -169,14 +169,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ScenarioError, PlanFileError, KeyNameError, KeyFileError, ValueError) as exc:
         print(f"vehicle_agents: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    from vehicle_agents.core.cooperative_position import corrects_odometry
+    from vehicle_agents.core.sensed_neighbours import reads_ranging
     from vehicle_agents.swarm_link_zenoh import ZenohSwarmLink
 
     try:
         swarm = ZenohSwarmLink(config.vehicle_id, mission, zenoh, via_radio=args.neighbours == "radio",
                                key=key, relays=config.params.relay_max_hops > 0,
-                               ranges=corrects_odometry(config.params.cooperative_position,
-                                                        config.params.odometry_drift_frac, config.has_gps))
+                               ranges=reads_ranging(config.params, config.has_gps))
     except ZenohOpenError as exc:
         print(f"vehicle_agents: vehicle {config.vehicle_id}: {exc}", file=sys.stderr)
         return EXIT_START_FAILED

@@ -13,12 +13,13 @@ from mission_plan.weather import SensorSpec
 from mock_autopilot.periodic_schedule import next_slot_s, slot_reached
 from mock_autopilot.relative_ranging import neighbour_ranging
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.core.cooperative_position import corrects_odometry
+from vehicle_agents.core.sensed_neighbours import reads_ranging
 
 
 @dataclass
 class LockstepRanging:
-    """Measurements for the drones without GPS, on the grid of the ranging rate, from the true positions and yaws."""
+    """Measurements for the drones that read their sensors, on the grid of the ranging rate, from the true positions
+    and yaws."""
 
     vehicle_ids: list[int]
     carriers: list[int]
@@ -30,10 +31,8 @@ class LockstepRanging:
     @classmethod
     def of_fleet(cls, vehicle_ids: list[int], has_gps: NDArray[np.bool_], spec: SensorSpec, params: ControlParams,
                  seed: int) -> LockstepRanging:
-        """Every drone that corrects its odometry with it measures (without GPS, drifting, improved mode)."""
-        carriers = [i for i, gps in enumerate(has_gps)
-                    if spec.ranging_used
-                    and corrects_odometry(params.cooperative_position, params.odometry_drift_frac, bool(gps))]
+        """Every drone that reads its sensor measures (:func:`vehicle_agents.core.sensed_neighbours.reads_ranging`)."""
+        carriers = [i for i, gps in enumerate(has_gps) if spec.ranging_used and reads_ranging(params, bool(gps))]
         return cls(vehicle_ids, carriers, spec, seed, [None] * len(vehicle_ids))
 
     def measure(self, t_s: float, positions_enu_m: NDArray[np.float64], yaw_ned_rad: NDArray[np.float64],

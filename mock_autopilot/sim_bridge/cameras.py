@@ -94,8 +94,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                                   camera_users(plan.roles, args.cameras),
                                   on_flood_start=lambda t: log.info("flood clock started at mission time %.2f s", t),
                                   imaging=plan.imaging, wind_en_mps=plan.wind_en_mps)
-        ranging = RangingStreamer(session, mission, plan.sensors, plan.world.seed,
-                                  [vid for vid in plan.roles if vid not in plan.gps_ids])
+        ranging = RangingStreamer(session, mission, plan.sensors, plan.world.seed, list(plan.roles))
         latest_t_s = -1.0
         next_stats_wall_s = time.monotonic() + 1.0
         while not stop.is_set():

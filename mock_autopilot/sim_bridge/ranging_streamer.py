@@ -1,8 +1,9 @@
 """Publishes the relative-position sensors' measurements from the published truth (the camera process runs it).
 
-Each drone without GPS gets, on ``ranging/<id>`` at ``[sensors] ranging_rate_hz`` of mission time, what its sensor
-measures of the vehicles in range (:func:`mock_autopilot.relative_ranging.neighbour_ranging`), as the lockstep
-engine gives it to the same onboard core. Only while their odometry drifts: otherwise no drone reads it.
+Each drone gets, on ``ranging/<id>`` at ``[sensors] ranging_rate_hz`` of mission time, what its sensor measures of
+the vehicles in range (:func:`mock_autopilot.relative_ranging.neighbour_ranging`), as the lockstep engine gives it
+to the same onboard core. Only while position estimates err (``SensorSpec.ranging_used``): otherwise no drone reads
+it; the drones that do subscribe (:func:`vehicle_agents.core.sensed_neighbours.reads_ranging`).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from mock_autopilot.sim_bridge.bridge import VehicleTruth
 
 
 class RangingStreamer:
-    """The measurements of ``carrier_ids`` (the drones without GPS), on the grid of the ranging rate."""
+    """The measurements of ``carrier_ids`` (every drone of the plan), on the grid of the ranging rate."""
 
     def __init__(self, session: ZenohSession, mission: str, spec: SensorSpec, seed: int,
                  carrier_ids: Collection[int]) -> None:

@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER, NeighbourInfo
+from vehicle_agents.control.types import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER, NeighbourInfo, SensedOffsets
 
 _PASSES = 3
 
@@ -156,6 +157,19 @@ def _project(vx: float, vy: float, constraints: Sequence[tuple[float, float, flo
                 vx -= (along - allowed) * ux
                 vy -= (along - allowed) * uy
     return vx, vy
+
+
+def placed_by_sensor(obstacles: Sequence[NeighbourInfo], own_en_m: NDArray[np.float64],
+                     own_velocity_en_mps: NDArray[np.float64], sensed: SensedOffsets) -> list[NeighbourInfo]:
+    """The obstacles with each sensed one placed at this drone's position when measured plus the measured offset,
+    as old as the measurement (the barrier carries it forward by the neighbour's velocity); the others unchanged."""
+    measured_at_en_m = np.asarray(own_en_m, dtype=float) - np.asarray(own_velocity_en_mps, dtype=float) * sensed.age_s
+    placed = []
+    for neighbour in obstacles:
+        offset = sensed.offsets_en_m.get(neighbour.vehicle_id)
+        placed.append(neighbour if offset is None else
+                      replace(neighbour, position_en_m=measured_at_en_m + offset, age_s=sensed.age_s))
+    return placed
 
 
 def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m: NDArray[np.float64],

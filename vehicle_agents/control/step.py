@@ -20,7 +20,7 @@ from vehicle_agents.control.launch_stand_ins import launch_stand_ins
 from vehicle_agents.control.leader import leader_step
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.safety import collision_barrier
+from vehicle_agents.control.safety import collision_barrier, placed_by_sensor
 from vehicle_agents.control.types import (
     ROLE_BOUNDARY,
     ROLE_FOLLOWER,
@@ -28,6 +28,7 @@ from vehicle_agents.control.types import (
     ROLES,
     NeighbourInfo,
     OwnState,
+    SensedOffsets,
     VelocityCommand,
 )
 from vehicle_agents.perception.result import PerceptionResult
@@ -60,13 +61,16 @@ def control_step(
     neighbours: Sequence[NeighbourInfo],
     params: ControlParams,
     t_s: float,
+    sensed: SensedOffsets | None = None,
 ) -> tuple[VelocityCommand, ControlMemory]:
     """One control step of ``role``: boundary (eq 8, Algorithm 1), leader (eq 9) or follower (eq 10).
 
     The yaw is held at north (0 rad NED) so that camera footprints stay axis-aligned squares. Improved mode
     passes the command through the collision barrier of :func:`safety.safety_filter` against every heard vehicle
     it must keep clear of (same or higher right of way), after a short last-resort barrier against the others;
-    at launch the plan's pads stand in for the vehicles not heard yet (:mod:`launch_stand_ins`).
+    at launch the plan's pads stand in for the vehicles not heard yet (:mod:`launch_stand_ins`). With ``sensed``
+    (and ``params.sensed_barrier``) the barrier places the neighbours its relative-position sensor measured where
+    it measured them (:func:`safety.placed_by_sensor`).
     """
     heard = usable_neighbours(memory.vehicle_id, neighbours, params.neighbour_timeout_s)
     if role == ROLE_BOUNDARY:
@@ -80,6 +84,8 @@ def control_step(
     if params.mode == ControlMode.IMPROVED:
         stand_ins = launch_stand_ins(params, memory.vehicle_id, neighbours, t_s)
         obstacles = heard + stand_ins if stand_ins else heard
+        if sensed is not None and params.sensed_barrier and obstacles:
+            obstacles = placed_by_sensor(obstacles, own.position_en_m, own.velocity_en_mps, sensed)
         if obstacles:
             velocity[:2] = collision_barrier(role, velocity[:2], own.position_en_m, obstacles, params)
     if not np.all(np.isfinite(velocity)):

@@ -6,6 +6,7 @@ frame: its odometry starts at its pad, whose offset from the launch site is part
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -13,7 +14,8 @@ from numpy.typing import NDArray
 
 from mission_plan.roles import ROLE_BOUNDARY, ROLE_FOLLOWER, ROLE_LEADER, ROLES
 
-__all__ = ["ROLES", "ROLE_BOUNDARY", "ROLE_FOLLOWER", "ROLE_LEADER", "NeighbourInfo", "OwnState", "VelocityCommand"]
+__all__ = ["ROLES", "ROLE_BOUNDARY", "ROLE_FOLLOWER", "ROLE_LEADER", "NeighbourInfo", "OwnState", "SensedOffsets",
+           "VelocityCommand"]
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,15 @@ class NeighbourInfo:
     leading: bool = False
     encircled: bool = False
     ring_radius_m: float | None = None
+
+
+@dataclass(frozen=True)
+class SensedOffsets:
+    """Neighbours' offsets from this drone [m; E, N] by id, as its relative-position sensor measured them
+    ``age_s`` ago (:mod:`vehicle_agents.core.sensed_neighbours`)."""
+
+    offsets_en_m: Mapping[int, NDArray[np.float64]]
+    age_s: float = 0.0
 
 
 @dataclass(frozen=True)

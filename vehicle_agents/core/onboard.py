@@ -40,6 +40,7 @@ from vehicle_agents.core.neighbour_filter import EMPTY_BANK, FilterNoise, TrackB
 from vehicle_agents.core.neighbours import EMPTY_INBOX, Inbox, heard_after
 from vehicle_agents.core.relay import relay_copies, unpacked
 from vehicle_agents.core.relay_admission import admitted
+from vehicle_agents.core.sensed_neighbours import sensed_offsets
 from vehicle_agents.core.telemetry import TelemetryBatch
 from vehicle_agents.flight_phase import Action, Command, Phase, PhaseInputs, PhaseLimits, next_phase
 from vehicle_agents.onboard_view import neighbour_info, own_state, state_message, velocity_ned
@@ -181,15 +182,16 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
                                                           timeout_s, noise, params)
         refused_copies[i] += refused
         own = own_state(tel, plan.pads_en_m[i], plan.has_gps[i])
+        ranging = inputs.ranging[i] if inputs.ranging else None
         if corrects_odometry(params.cooperative_position, params.odometry_drift_frac, plan.has_gps[i]):
-            ranging = inputs.ranging[i] if inputs.ranging else None
             own, positions[i] = _corrected(own, positions[i], ranging, heard[i], tel.yaw_ned_rad, t_s, params)
         perception, trust[i] = trusted_result(inputs.perception[i], own.position_en_m, t_s, trust[i])
         if action is Action.FLY:
             tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
             start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
+            sensed = sensed_offsets(ranging, tel.yaw_ned_rad, t_s) if params.sensed_barrier else None
             velocity, memories[i] = control_step(plan.roles[i], memories[i], own, perception, infos, params,
-                                                 max(0.0, t_s - start_s))
+                                                 max(0.0, t_s - start_s), sensed)
             setpoints[i] = velocity_ned(velocity)
             yaws[i] = float(velocity.yaw_ned_rad)
         elif action is Action.HOVER:

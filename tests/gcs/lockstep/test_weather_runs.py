@@ -50,10 +50,16 @@ def test_drones_without_gps_correct_their_drift_by_ranging_their_neighbours() ->
     raw_m = np.hypot(*drift_en_m.T)
     left_m = np.hypot(*(drift_en_m - corrections).T)
     assert raw_m.mean() > 0.15
-    assert left_m.mean() < 0.35 * raw_m.mean() and left_m.max() < 0.15
+    assert left_m.mean() < 0.35 * raw_m.mean() and left_m.max() < 0.2
 
 
 def test_without_the_correction_the_drift_stays() -> None:
     run = _run_for(["weather=moderate", "seed=5", "control.cooperative_position=false"], 3.0)
-    assert run.ranging.carriers == []
+    assert len(run.ranging.carriers) == len(run.gps), "every drone still reads its sensor for the barrier"
     assert not any(p.correction_en_m != (0.0, 0.0) or p.flown_m for p in run.core.positions)
+
+
+def test_no_drone_reads_its_sensor_when_neither_the_correction_nor_the_barrier_does() -> None:
+    run = _run_for(["weather=moderate", "seed=5", "control.cooperative_position=false",
+                    "control.sensed_barrier=false"], 1.0)
+    assert run.ranging.carriers == []
