@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,6 +35,7 @@ from gcs.polygon.radio_node import GroundNode, antenna_enu_m
 from gcs.lockstep.radio_link import InMemoryRadio
 from gcs.lockstep.ranging import LockstepRanging
 from gcs.mission_record import MissionRecord, PolygonSample
+from gcs.polygon.report_window import ReportHistory, remembered
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.relay_refusals import refused_copies_line
 from gcs.scenario import Scenario
@@ -239,13 +240,16 @@ class _GroundPolygon:
     max_report_age_s: float
     samples: list[PolygonSample]
     next_t_s: float = 0.0
+    history: ReportHistory = field(default_factory=dict)
 
     def sample(self, t_s: float, heard: dict[int, NeighbourState]) -> None:
+        """Keep the boundary reports of the last half second; rebuild the polygon when its period has come."""
+        self.history = remembered(self.history, heard, self.ring_order, t_s)
         if not (slot_reached(self.next_t_s, t_s) and self.ring_order):
             return
         leader = heard.get(self.leader_id) if self.leader_id is not None else None
         ring = aggregate_polygon(heard, self.ring_order, georeference_offset_en_m(leader, self.scenario.home), t_s,
-                                 self.max_report_age_s)
+                                 self.max_report_age_s, self.history)
         self.samples.append(PolygonSample(t_s=t_s, ring_en_m=np.asarray(ring, dtype=float)))
         self.next_t_s = next_slot_s(self.next_t_s, self.scenario.polygon_period_s, t_s)
 

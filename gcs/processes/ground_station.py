@@ -232,6 +232,7 @@ class GroundStation:
                 self._poll_swarm(link)
                 if self.radio is not None:
                     self.radio.poll(self.mission_t_s)
+                self.polygon.remember(self.states if self.radio is None else self.radio.heard, self.mission_t_s)
                 self.intrusions.poll(now_wall_s)
                 if pace_buf is not None:
                     self.pace.poll(pace_buf)

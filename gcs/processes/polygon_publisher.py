@@ -19,12 +19,14 @@ from comms.messages import NeighbourState, encode
 from comms.zenoh_session import ZenohSession
 from gcs.mission_record import PolygonSample
 from gcs.polygon.growth import polygon_growth_rate_m2ps
+from gcs.polygon.report_window import NO_REPORTS, ReportHistory, remembered
 from gcs.polygon.reports import aggregate_polygon, georeference_offset_en_m, report_max_age_s
 from gcs.report.polygon_log import PolygonLog
 
 
 class PolygonPublisher:
-    """Builds the caged polygon from the newest state messages and hands it to the recorder, the log and Zenoh."""
+    """Builds the caged polygon from the boundary drones' recent state messages and hands it to the recorder, the
+    log and Zenoh."""
 
     def __init__(self, keys: MissionKeys, mission: str, home: GeodeticHome, ring_order: Sequence[int],
                  leader_id: int | None, control_rate_hz: float, polygons: list[PolygonSample]) -> None:
@@ -35,6 +37,11 @@ class PolygonPublisher:
         self.polygons = polygons
         self.log: PolygonLog | None = None
         self.area_m2 = math.nan
+        self.history: ReportHistory = NO_REPORTS
+
+    def remember(self, states: Mapping[int, NeighbourState], mission_t_s: float) -> None:
+        """Keep the boundary drones' newest reports (called at every poll; the polygon fuses the last half second)."""
+        self.history = remembered(self.history, states, self.ring_order, mission_t_s)
 
     def start_log(self, out_dir: Path, start_utc: dt.datetime) -> None:
         """Open the polygon log (GeoJSON lines) at flood time 0."""
@@ -49,7 +56,7 @@ class PolygonPublisher:
         """Aggregate, record, log and publish the polygon; returns the ring [m; mission EN] (empty if < 3 points)."""
         leader = states.get(self.leader_id) if self.leader_id is not None else None
         offset = georeference_offset_en_m(leader, self.home)
-        ring = aggregate_polygon(states, self.ring_order, offset, mission_t_s, self.max_age_s)
+        ring = aggregate_polygon(states, self.ring_order, offset, mission_t_s, self.max_age_s, self.history)
         if len(ring) < 3:
             return ring
         self.polygons.append(PolygonSample(t_s=flood_t_s, ring_en_m=ring))
