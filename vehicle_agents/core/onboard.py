@@ -6,9 +6,10 @@ The order inside a step is the agent's: decide the flight phase from telemetry a
 it senses of its neighbours (:mod:`vehicle_agents.core.cooperative_position`; its position is then the corrected
 one everywhere below), run the control law of the drone's role when the phase says fly
 (:func:`vehicle_agents.control.step.control_step`: eq 8 + Algorithm 1, eq 9, eq 10) on the camera result it trusts
-(:mod:`vehicle_agents.perception.edge_trust`: one frame contradicting a recent edge is held, not obeyed), and
-build the state message it broadcasts (:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled
-there and only there).
+(:mod:`vehicle_agents.perception.edge_trust`: one frame contradicting a recent edge is held, not obeyed), its
+collision barrier keeping clear of the neighbours where its relative-position sensor sees them
+(:mod:`vehicle_agents.core.sensed_neighbours`), and build the state message it broadcasts
+(:func:`vehicle_agents.onboard_view.state_message`, edge points subsampled there and only there).
 The laws still loop over drones; the interface is arrays in, arrays out, so that it holds when they no longer do.
 A neighbour's message is turned into what the laws read once per step, however many drones heard it, and the laws
 get their neighbours in id order whatever order the radio delivered them in.
