@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -159,21 +158,27 @@ def _project(vx: float, vy: float, constraints: Sequence[tuple[float, float, flo
     return vx, vy
 
 
-def placed_by_sensor(obstacles: Sequence[NeighbourInfo], own_en_m: NDArray[np.float64],
-                     own_velocity_en_mps: NDArray[np.float64], sensed: SensedOffsets) -> list[NeighbourInfo]:
-    """The obstacles with each sensed one placed at this drone's position when measured plus the measured offset,
-    as old as the measurement (the barrier carries it forward by the neighbour's velocity); the others unchanged."""
-    measured_at_en_m = np.asarray(own_en_m, dtype=float) - np.asarray(own_velocity_en_mps, dtype=float) * sensed.age_s
-    placed = []
-    for neighbour in obstacles:
-        offset = sensed.offsets_en_m.get(neighbour.vehicle_id)
-        placed.append(neighbour if offset is None else
-                      replace(neighbour, position_en_m=measured_at_en_m + offset, age_s=sensed.age_s))
-    return placed
+def sensed_positions_en_m(obstacles: Sequence[NeighbourInfo], own_en_m: NDArray[np.float64],
+                          own_velocity_en_mps: NDArray[np.float64], sensed: SensedOffsets) -> NDArray[np.float64]:
+    """Where the barrier keeps clear of each obstacle now [m; (K, 2) E, N]: a sensed one at this drone's position
+    when measured plus the measured offset, carried forward by its velocity over the measurement's age; the others
+    where their messages put them (:func:`predicted_positions_en_m`)."""
+    positions = predicted_positions_en_m(obstacles)
+    row_of = sensed.row_of()
+    rows = [(k, row_of[n.vehicle_id]) for k, n in enumerate(obstacles) if n.vehicle_id in row_of]
+    if not rows:
+        return positions
+    age_s = sensed.age_s
+    measured_at_en_m = np.asarray(own_en_m, dtype=float) - np.asarray(own_velocity_en_mps, dtype=float) * age_s
+    mine, theirs = (list(side) for side in zip(*rows))
+    velocities = np.array([obstacles[k].velocity_en_mps for k in mine], dtype=float).reshape(-1, 2)
+    positions[mine] = measured_at_en_m + sensed.offsets_en_m[theirs] + velocities * age_s
+    return positions
 
 
 def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m: NDArray[np.float64],
-                      heard: Sequence[NeighbourInfo], params: ControlParams) -> NDArray[np.float64]:
+                      heard: Sequence[NeighbourInfo], params: ControlParams,
+                      heard_en_m: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
     """Improved mode's last word on a command [m/s; E, N]: :func:`safety_filter` against every heard vehicle of the
     same or a higher right of way at ``safety_min_distance_m``, after a last-resort barrier at half that distance
     against those who give way to this one; and when both kinds are near, the last resort against everyone once
@@ -184,14 +189,15 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
     1.3 m (0.82 m apart under bursty radio loss, seed 2). A gap of half the minimum is a collision to avoid;
     the full minimum is room to keep; so the collision floor wins.
 
-    Neighbours are where their last message, carried forward by its age, puts them; the barrier counts on PX4's
+    Neighbours are at ``heard_en_m`` when given (:func:`sensed_positions_en_m`), else where their last message,
+    carried forward by its age, puts them; the barrier counts on PX4's
     braking (``safety_braking_mps2`` after ``safety_reaction_s``) and so looks as far out as a drone at twice the
     speed limit (two drones head on) needs to stop.
     """
     obstacles = yielded_to(role, heard)
     ids = {n.vehicle_id for n in obstacles}
     yields = np.array([n.vehicle_id not in ids for n in heard], dtype=bool)
-    heard_en_m = predicted_positions_en_m(heard)
+    heard_en_m = predicted_positions_en_m(heard) if heard_en_m is None else heard_en_m
     brake = params.safety_braking_mps2
     reaction = params.safety_reaction_s
     horizon_speed_mps = 2.0 * params.max_speed_mps

@@ -20,7 +20,7 @@ from vehicle_agents.control.launch_stand_ins import launch_stand_ins
 from vehicle_agents.control.leader import leader_step
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.safety import collision_barrier, placed_by_sensor
+from vehicle_agents.control.safety import collision_barrier, sensed_positions_en_m
 from vehicle_agents.control.types import (
     ROLE_BOUNDARY,
     ROLE_FOLLOWER,
@@ -70,7 +70,7 @@ def control_step(
     it must keep clear of (same or higher right of way), after a short last-resort barrier against the others;
     at launch the plan's pads stand in for the vehicles not heard yet (:mod:`launch_stand_ins`). With ``sensed``
     (and ``params.sensed_barrier``) the barrier places the neighbours its relative-position sensor measured where
-    it measured them (:func:`safety.placed_by_sensor`).
+    it measured them (:func:`safety.sensed_positions_en_m`).
     """
     heard = usable_neighbours(memory.vehicle_id, neighbours, params.neighbour_timeout_s)
     if role == ROLE_BOUNDARY:
@@ -84,10 +84,10 @@ def control_step(
     if params.mode == ControlMode.IMPROVED:
         stand_ins = launch_stand_ins(params, memory.vehicle_id, neighbours, t_s)
         obstacles = heard + stand_ins if stand_ins else heard
-        if sensed is not None and params.sensed_barrier and obstacles:
-            obstacles = placed_by_sensor(obstacles, own.position_en_m, own.velocity_en_mps, sensed)
         if obstacles:
-            velocity[:2] = collision_barrier(role, velocity[:2], own.position_en_m, obstacles, params)
+            positions = (sensed_positions_en_m(obstacles, own.position_en_m, own.velocity_en_mps, sensed)
+                         if sensed is not None and params.sensed_barrier else None)
+            velocity[:2] = collision_barrier(role, velocity[:2], own.position_en_m, obstacles, params, positions)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)
     return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory

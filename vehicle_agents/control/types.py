@@ -50,11 +50,16 @@ class NeighbourInfo:
 
 @dataclass(frozen=True)
 class SensedOffsets:
-    """Neighbours' offsets from this drone [m; E, N] by id, as its relative-position sensor measured them
-    ``age_s`` ago (:mod:`vehicle_agents.core.sensed_neighbours`)."""
+    """Neighbours' offsets from this drone [m; (K, 2) E, N], row k that of ``neighbour_ids[k]``, as its
+    relative-position sensor measured them ``age_s`` ago (:mod:`vehicle_agents.core.sensed_neighbours`)."""
 
-    offsets_en_m: Mapping[int, NDArray[np.float64]]
+    neighbour_ids: tuple[int, ...]
+    offsets_en_m: NDArray[np.float64]
     age_s: float = 0.0
+
+    def row_of(self) -> Mapping[int, int]:
+        """Each sensed neighbour's row."""
+        return {vid: k for k, vid in enumerate(self.neighbour_ids)}
 
 
 @dataclass(frozen=True)

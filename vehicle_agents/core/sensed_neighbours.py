@@ -40,4 +40,4 @@ def sensed_offsets(ranging: NeighbourRanging | None, yaw_ned_rad: float, t_s: fl
     if ranging is None or not ranging.neighbour_ids or not 0.0 <= t_s - ranging.t_s <= MAX_RANGING_AGE_S:
         return None
     offsets = body_fr_to_en(np.asarray(ranging.forward_right_m, dtype=float).reshape(-1, 2), yaw_ned_rad)
-    return SensedOffsets(dict(zip(ranging.neighbour_ids, offsets)), t_s - ranging.t_s)
+    return SensedOffsets(tuple(ranging.neighbour_ids), offsets, t_s - ranging.t_s)

@@ -8,7 +8,7 @@ import numpy as np
 
 from comms.messages import NeighbourRanging
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.safety import collision_barrier, placed_by_sensor
+from vehicle_agents.control.safety import collision_barrier, sensed_positions_en_m
 from vehicle_agents.control.types import NeighbourInfo, SensedOffsets
 from vehicle_agents.core.sensed_neighbours import MAX_RANGING_AGE_S, reads_ranging, sensed_offsets
 
@@ -30,9 +30,10 @@ def test_offsets_are_turned_into_the_mission_frame_by_the_heading() -> None:
     ranging = NeighbourRanging(vehicle_id=1, t_s=10.0, neighbour_ids=[2, 3], forward_right_m=[(2.0, 0.0), (0.0, 1.0)])
     facing_north = sensed_offsets(ranging, 0.0, 10.05)
     assert facing_north is not None and math.isclose(facing_north.age_s, 0.05)
-    assert np.allclose(facing_north.offsets_en_m[2], [0.0, 2.0]) and np.allclose(facing_north.offsets_en_m[3], [1.0, 0.0])
+    assert facing_north.neighbour_ids == (2, 3)
+    assert np.allclose(facing_north.offsets_en_m, [[0.0, 2.0], [1.0, 0.0]])
     facing_east = sensed_offsets(ranging, math.pi / 2.0, 10.0)
-    assert facing_east is not None and np.allclose(facing_east.offsets_en_m[2], [2.0, 0.0])
+    assert facing_east is not None and np.allclose(facing_east.offsets_en_m[0], [2.0, 0.0])
 
 
 def test_an_old_or_empty_measurement_is_not_used() -> None:
@@ -47,20 +48,19 @@ def test_a_neighbour_believed_far_but_sensed_close_is_kept_clear_of() -> None:
     3.5 m east. Commanded east at 1 m/s, the barrier on the broadcast lets it close; on the sensor it backs off."""
     own = np.array([0.0, 0.0])
     believed = NeighbourInfo(2, "boundary", np.array([3.5, 0.0]), np.zeros(2), 10.0)
-    sensed = SensedOffsets({2: np.array([2.0, 0.0])}, age_s=0.05)
+    sensed = SensedOffsets((2,), np.array([[2.0, 0.0]]), age_s=0.05)
     command = np.array([1.0, 0.0])
     on_broadcast = collision_barrier("boundary", command, own, [believed], IMPROVED)
-    placed = placed_by_sensor([believed], own, np.zeros(2), sensed)
-    on_sensor = collision_barrier("boundary", command, own, placed, IMPROVED)
+    placed = sensed_positions_en_m([believed], own, np.zeros(2), sensed)
+    on_sensor = collision_barrier("boundary", command, own, [believed], IMPROVED, placed)
     assert on_broadcast[0] > 0.5
     assert on_sensor[0] < 0.0
-    assert np.allclose(placed[0].position_en_m, [2.0, 0.0]) and placed[0].age_s == 0.05
+    assert np.allclose(placed, [[2.0, 0.0]])
 
 
-def test_placing_by_the_sensor_counts_the_drone_s_own_motion_since_the_measurement() -> None:
-    believed = NeighbourInfo(2, "boundary", np.array([9.0, 9.0]), np.zeros(2), 10.0)
-    unseen = NeighbourInfo(3, "follower", np.array([-4.0, 0.0]), np.zeros(2), 10.0)
-    placed = placed_by_sensor([believed, unseen], np.array([1.0, 0.0]), np.array([2.0, 0.0]),
-                              SensedOffsets({2: np.array([3.0, 0.0])}, age_s=0.1))
-    assert np.allclose(placed[0].position_en_m, [3.8, 0.0])
-    assert placed[1] is unseen
+def test_placing_by_the_sensor_counts_both_drones_motion_since_the_measurement() -> None:
+    believed = NeighbourInfo(2, "boundary", np.array([9.0, 9.0]), np.array([0.0, 1.0]), 10.0)
+    unseen = NeighbourInfo(3, "follower", np.array([-4.0, 0.0]), np.array([1.0, 0.0]), 10.0, age_s=0.2)
+    placed = sensed_positions_en_m([believed, unseen], np.array([1.0, 0.0]), np.array([2.0, 0.0]),
+                                   SensedOffsets((7, 2), np.array([[0.0, -5.0], [3.0, 0.0]]), age_s=0.1))
+    assert np.allclose(placed, [[3.8, 0.1], [-3.8, 0.0]])
