@@ -41,11 +41,11 @@ def main_boundary_points(points_px: NDArray[np.float64], shape: tuple[int, int])
     if points_px.shape[0] < 3:
         return points_px
     height, width = shape
-    columns = np.clip(points_px[:, 0].astype(np.int32), 0, width - 1)
-    rows = np.clip(points_px[:, 1].astype(np.int32), 0, height - 1)
+    pixels = points_px.astype(np.int32)  # the points lie between pixel centres, inside the frame
+    columns, rows = pixels[:, 0], pixels[:, 1]
     marks = np.zeros((height, width), np.uint8)
     marks[rows, columns] = 1
-    count, labels = cv2.connectedComponents(cv2.dilate(marks, _LINK), connectivity=8)
+    count, labels = cv2.connectedComponents(cv2.dilate(marks, _LINK), connectivity=8, ltype=cv2.CV_16U)
     if count <= 2:
         return points_px
     label_of = labels[rows, columns]
