@@ -35,8 +35,8 @@ def reads_ranging(params: ControlParams, has_gps: bool) -> bool:
 
 
 def sensed_offsets(ranging: NeighbourRanging | None, yaw_ned_rad: float, t_s: float) -> SensedOffsets | None:
-    """Each ranged neighbour's offset from this drone [m; E, N] by id, from a measurement at most
-    ``MAX_RANGING_AGE_S`` old, turned into the mission frame with the drone's heading estimate; None without one."""
+    """Each ranged neighbour's offset from this drone [m; E, N], from a measurement at most ``MAX_RANGING_AGE_S``
+    old, turned into the mission frame with the drone's heading estimate; None without one."""
     if ranging is None or not ranging.neighbour_ids or not 0.0 <= t_s - ranging.t_s <= MAX_RANGING_AGE_S:
         return None
     offsets = body_fr_to_en(np.asarray(ranging.forward_right_m, dtype=float).reshape(-1, 2), yaw_ned_rad)

@@ -10,10 +10,11 @@ edge metres away.
 
 The boundary points are grouped into chains: two points belong to the same chain when their pixels lie within
 ``LINK_PX`` of each other (each point marks a pixel beside its transition, and the marks of one boundary are
-8-neighbours however it runs through the pixel grid; the margin joins a boundary broken by a pixel or two). The longest chain is the shore. Another chain is kept only when it too runs into the frame's border and holds at
-least ``MIN_KEPT_FRACTION`` of the longest one's points: a shore that leaves the frame and comes back (a bay, a
-frame across a bend) keeps both of its pieces, while a closed boundary inside the frame, however long, is a patch
-and not the edge of a flood larger than the footprint.
+8-neighbours however it runs through the pixel grid; the margin joins a boundary broken by a pixel or two). The
+longest chain is the shore. Another chain is kept only when it too runs into the frame's border and holds at least
+``MIN_KEPT_FRACTION`` of the longest one's points: a shore that leaves the frame and comes back (a bay, a frame
+across a bend) keeps both of its pieces, while a closed boundary inside the frame, however long, is a patch and not
+the edge of a flood larger than the footprint.
 
 Pure: image points in, a subset of the same points out.
 """

@@ -40,7 +40,8 @@ def test_an_old_or_empty_measurement_is_not_used() -> None:
     ranging = NeighbourRanging(vehicle_id=1, t_s=10.0, neighbour_ids=[2], forward_right_m=[(2.0, 0.0)])
     assert sensed_offsets(ranging, 0.0, 10.0 + MAX_RANGING_AGE_S + 0.01) is None
     assert sensed_offsets(None, 0.0, 10.0) is None
-    assert sensed_offsets(NeighbourRanging(vehicle_id=1, t_s=10.0, neighbour_ids=[], forward_right_m=[]), 0.0, 10.0) is None
+    nobody = NeighbourRanging(vehicle_id=1, t_s=10.0, neighbour_ids=[], forward_right_m=[])
+    assert sensed_offsets(nobody, 0.0, 10.0) is None
 
 
 def test_a_neighbour_believed_far_but_sensed_close_is_kept_clear_of() -> None:
