@@ -12,9 +12,11 @@ from dataclasses import replace
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mission_plan.control_params import ControlMode
 from vehicle_agents.control.boundary import boundary_step
+from vehicle_agents.control.hover import hover_velocity
 from vehicle_agents.control.follower import follower_step
 from vehicle_agents.control.launch_stand_ins import launch_stand_ins
 from vehicle_agents.control.leader import leader_step
@@ -82,15 +84,40 @@ def control_step(
     else:
         raise ValueError(f"role: must be one of {', '.join(ROLES)}, got {role!r}")
     if params.mode == ControlMode.IMPROVED:
-        stand_ins = launch_stand_ins(params, memory.vehicle_id, neighbours, t_s)
-        obstacles = heard + stand_ins if stand_ins else heard
-        if obstacles:
-            positions = (sensed_positions_en_m(obstacles, own.position_en_m, own.velocity_en_mps, sensed)
-                         if sensed is not None and params.sensed_barrier else None)
-            velocity[:2] = collision_barrier(role, velocity[:2], own.position_en_m, obstacles, params, positions)
+        velocity[:2] = _kept_clear(role, memory.vehicle_id, velocity[:2], own, heard, neighbours, params, t_s, sensed)
     if not np.all(np.isfinite(velocity)):
         velocity = np.zeros(3)
     return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0), memory
+
+
+def hover_step(role: str, vehicle_id: int, own: OwnState, pad_en_m: Sequence[float], altitude_m: float,
+               neighbours: Sequence[NeighbourInfo], params: ControlParams,
+               sensed: SensedOffsets | None = None) -> VelocityCommand:
+    """The hold over the pad of a drone waiting to start (:func:`vehicle_agents.control.hover.hover_velocity`),
+    through improved mode's collision barrier like every other command: the drone holds its pad where its own
+    estimate puts it, and a GPS fix's bias moves that point by a metre towards a neighbour 1.5 m away (`circle`
+    under `moderate` as processes: leader and follower 0.93 m apart before the mission started)."""
+    velocity = np.array(hover_velocity(own, pad_en_m, altitude_m).velocity_enu_mps, dtype=float)
+    if params.mode == ControlMode.IMPROVED:
+        heard = usable_neighbours(vehicle_id, neighbours, params.neighbour_timeout_s)
+        velocity[:2] = _kept_clear(role, vehicle_id, velocity[:2], own, heard, neighbours, params, 0.0, sensed)
+    if not np.all(np.isfinite(velocity)):
+        velocity = np.zeros(3)
+    return VelocityCommand(velocity_enu_mps=velocity, yaw_ned_rad=0.0)
+
+
+def _kept_clear(role: str, vehicle_id: int, velocity_en_mps: NDArray[np.float64], own: OwnState,
+                heard: list[NeighbourInfo], neighbours: Sequence[NeighbourInfo], params: ControlParams,
+                elapsed_s: float, sensed: SensedOffsets | None) -> NDArray[np.float64]:
+    """The horizontal command through the collision barrier against the heard neighbours and, at launch, the pads
+    of those not heard yet; the neighbours the sensor measured where it measured them."""
+    stand_ins = launch_stand_ins(params, vehicle_id, neighbours, elapsed_s)
+    obstacles = heard + stand_ins if stand_ins else heard
+    if not obstacles:
+        return velocity_en_mps
+    positions = (sensed_positions_en_m(obstacles, own.position_en_m, own.velocity_en_mps, sensed)
+                 if sensed is not None and params.sensed_barrier else None)
+    return collision_barrier(role, velocity_en_mps, own.position_en_m, obstacles, params, positions)
 
 
 def own_broadcast(memory: ControlMemory, own: OwnState, t_s: float) -> NeighbourInfo:

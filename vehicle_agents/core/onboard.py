@@ -25,10 +25,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from comms.messages import HeardState, NeighbourRanging, NeighbourState
+from mission_plan.control_params import ControlMode
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
-from vehicle_agents.control.step import control_step, initial_memory, own_broadcast
-from vehicle_agents.control.hover import hover_velocity
+from vehicle_agents.control.step import control_step, hover_step, initial_memory, own_broadcast
 from vehicle_agents.control.types import NeighbourInfo, OwnState
 from vehicle_agents.core.cooperative_position import (
     NO_CORRECTION,
@@ -196,7 +196,12 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
             setpoints[i] = velocity_ned(velocity)
             yaws[i] = float(velocity.yaw_ned_rad)
         elif action is Action.HOVER:
-            setpoints[i] = velocity_ned(hover_velocity(own, plan.pads_en_m[i], plan.limits.takeoff_altitude_m))
+            infos: list[NeighbourInfo] = []
+            if params.mode == ControlMode.IMPROVED:
+                tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
+            sensed = sensed_offsets(ranging, tel.yaw_ned_rad, t_s) if params.sensed_barrier else None
+            setpoints[i] = velocity_ned(hover_step(plan.roles[i], vid, own, plan.pads_en_m[i],
+                                                   plan.limits.takeoff_altitude_m, infos, params, sensed))
         if not inputs.telemetry.heard(i):
             messages.append(None)
             continue
