@@ -95,8 +95,8 @@ def hover_step(role: str, vehicle_id: int, own: OwnState, pad_en_m: Sequence[flo
                sensed: SensedOffsets | None = None) -> VelocityCommand:
     """The hold over the pad of a drone waiting to start (:func:`vehicle_agents.control.hover.hover_velocity`),
     through improved mode's collision barrier like every other command: the drone holds its pad where its own
-    estimate puts it, and a GPS fix's bias moves that point by a metre towards a neighbour 1.5 m away (`circle`
-    under `moderate` as processes: leader and follower 0.93 m apart before the mission started)."""
+    estimate puts it, and a GPS fix's bias moves that point by a metre towards a neighbour 1.5 m away (``circle``
+    under ``moderate`` as processes: leader and follower 0.93 m apart before the mission started)."""
     velocity = np.array(hover_velocity(own, pad_en_m, altitude_m).velocity_enu_mps, dtype=float)
     if params.mode == ControlMode.IMPROVED:
         heard = usable_neighbours(vehicle_id, neighbours, params.neighbour_timeout_s)
