@@ -25,7 +25,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from comms.messages import HeardState, NeighbourRanging, NeighbourState
-from mission_plan.control_params import ControlMode
 from vehicle_agents.control.memory import ControlMemory
 from vehicle_agents.control.params import ControlParams
 from vehicle_agents.control.step import control_step, hover_step, initial_memory, own_broadcast
@@ -187,21 +186,18 @@ def onboard_step(plan: OnboardPlan, state: OnboardState, inputs: OnboardInputs) 
         if corrects_odometry(params.cooperative_position, params.odometry_drift_frac, plan.has_gps[i]):
             own, positions[i] = _corrected(own, positions[i], ranging, heard[i], tel.yaw_ned_rad, t_s, params)
         perception, trust[i] = trusted_result(inputs.perception[i], own.position_en_m, t_s, trust[i])
-        if action is Action.FLY:
+        if action in SETPOINT_ACTIONS:
             tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
-            start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
             sensed = sensed_offsets(ranging, tel.yaw_ned_rad, t_s) if params.sensed_barrier else None
-            velocity, memories[i] = control_step(plan.roles[i], memories[i], own, perception, infos, params,
-                                                 max(0.0, t_s - start_s), sensed)
+            if action is Action.FLY:
+                start_s = order.flood_clock_start_t_s if order.flood_clock_start_t_s is not None else t_s
+                velocity, memories[i] = control_step(plan.roles[i], memories[i], own, perception, infos, params,
+                                                     max(0.0, t_s - start_s), sensed)
+                yaws[i] = float(velocity.yaw_ned_rad)
+            else:
+                velocity = hover_step(plan.roles[i], vid, own, plan.pads_en_m[i], plan.limits.takeoff_altitude_m,
+                                      infos, params, sensed)
             setpoints[i] = velocity_ned(velocity)
-            yaws[i] = float(velocity.yaw_ned_rad)
-        elif action is Action.HOVER:
-            infos: list[NeighbourInfo] = []
-            if params.mode == ControlMode.IMPROVED:
-                tracks[i], infos = _neighbour_infos(heard[i], tracks[i], t_s, noise, converted)
-            sensed = sensed_offsets(ranging, tel.yaw_ned_rad, t_s) if params.sensed_barrier else None
-            setpoints[i] = velocity_ned(hover_step(plan.roles[i], vid, own, plan.pads_en_m[i],
-                                                   plan.limits.takeoff_altitude_m, infos, params, sensed))
         if not inputs.telemetry.heard(i):
             messages.append(None)
             continue

@@ -128,8 +128,7 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     water_px = np.array([sum_x / n_water + 0.5, sum_y / n_water + 0.5])
     land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
     water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px)
-    edge_px = main_boundary_points(_edge_points_px(mask, score, threshold), mask.shape)
-    edge_en = project_pixels(to_ground, edge_px[:, 0], edge_px[:, 1]) if len(edge_px) else np.zeros((0, 2))
+    edge_en = _shore_on_ground(mask, score, threshold, to_ground)
     normal = _edge_normal(edge_en, land_en - water_en)
     if normal is None:
         return PerceptionResult.no_measurement(footprint_m)
@@ -146,7 +145,8 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
         edge_normal_en=normal,
         edge_tangent_en=tangent,
         edge_points_en_m=_along_the_edge(edge_en, tangent, max_edge_points),
-        shore_points_en_m=None if shore is None else _shore_points(shore, to_ground, tangent, max_edge_points),
+        shore_points_en_m=None if shore is None else _along_the_edge(
+            _shore_on_ground(shore.mask, shore.score, shore.threshold, to_ground), tangent, max_edge_points),
         water_centroid_px=water_px,
         land_centroid_px=land_px,
         ground_sample_m=footprint_m / w,
@@ -154,12 +154,12 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     )
 
 
-def _shore_points(shore: ShoreByColour, to_ground: NDArray[np.float64], tangent: NDArray[np.float64],
-                  max_points: int) -> NDArray[np.float64]:
-    """The shore placed by colour as points on the ground, ordered along the edge like the edge points."""
-    shore_px = main_boundary_points(_edge_points_px(shore.mask, shore.score, shore.threshold), shore.mask.shape)
-    shore_en = project_pixels(to_ground, shore_px[:, 0], shore_px[:, 1]) if len(shore_px) else np.zeros((0, 2))
-    return _along_the_edge(shore_en, tangent, max_points)
+def _shore_on_ground(mask: NDArray[np.bool_], score: NDArray[np.generic], threshold: float,
+                     to_ground: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The sub-pixel boundary points of ``mask`` on its shore (:mod:`vehicle_agents.perception.main_boundary`),
+    projected to the ground: (K, 2) offsets from the drone [m; east, north]."""
+    points_px = main_boundary_points(_edge_points_px(mask, score, threshold), mask.shape)
+    return project_pixels(to_ground, points_px[:, 0], points_px[:, 1]) if len(points_px) else np.zeros((0, 2))
 
 
 def _water_moments(mask: NDArray[np.bool_]) -> tuple[float, float, float]:
