@@ -98,8 +98,9 @@ def parse_case(text: str) -> tuple[str, dict[str, str]]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", default="circle:speed=3",
-                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B,reference=DIR] (B: the lockstep '
-                             'reference\'s vehicle backend, px4 by default; DIR: a lockstep run already made)')
+                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B,reference=DIR,agent_timeout=T] (B: the '
+                             'lockstep reference\'s vehicle backend, px4 by default; DIR: a lockstep run already made; '
+                             'T: the processes run\'s --agent-timeout-s)')
     parser.add_argument("--out", type=Path, default=Path("/tmp/fw_bench_paced"))
     ns = parser.parse_args()
     print(f"machine: {platform.processor() or platform.machine()}, {len(os.sched_getaffinity(0))} cores, "
@@ -121,12 +122,14 @@ def main() -> int:
         sampler = MemorySampler(out)
         thread = threading.Thread(target=sampler.run, daemon=True)
         thread.start()
-        code, wall_s, metrics = run_mission([scenario, "--mode", mode, "--speed", speed, "--clock", clock], out, base)
+        timeout = ["--agent-timeout-s", options["agent_timeout"]] if "agent_timeout" in options else []
+        code, wall_s, metrics = run_mission([scenario, "--mode", mode, "--speed", speed, "--clock", clock, *timeout],
+                                            out, base)
         sampler.stop()
         thread.join()
         engine, safety = metrics.get("engine_health", {}), metrics.get("safety", {})
         summary, ref_summary = metrics.get("summary", {}), ref.get("summary", {})
-        print(f"\n== {scenario} mode={mode} speed={speed} clock={clock}")
+        print(f"\n== {scenario} mode={mode} speed={speed} clock={clock} {' '.join(timeout)}")
         print(f"lockstep ({backend} backend): exit {ref_code}, {ref_wall_s:.0f} s wall")
         print(f"processes: exit {code}, {wall_s:.0f} s wall, achieved {engine.get('real_time_factor')}x real time, "
               f"clock held {engine.get('held_wall_s')} s, slowest wait {engine.get('slowest_wait_wall_s')} s")
