@@ -42,9 +42,8 @@ def pixel_to_ground(width_px: int, height_px: int, fov_deg: float, height_m: flo
 def project_pixels(homography: NDArray[np.float64], x: NDArray[np.float64], y: NDArray[np.float64]
                    ) -> NDArray[np.float64]:
     """(..., 2) ground offsets [m; east, north] of image points (x, y) [px] through ``homography``."""
-    (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = homography.tolist()
-    w = g20 * x + g21 * y + g22
-    ground = np.empty(np.shape(w) + (2,))
-    np.divide(g00 * x + g01 * y + g02, w, out=ground[..., 0])
-    np.divide(g10 * x + g11 * y + g12, w, out=ground[..., 1])
-    return ground
+    g = homography
+    w = g[2, 0] * x + g[2, 1] * y + g[2, 2]
+    east = (g[0, 0] * x + g[0, 1] * y + g[0, 2]) / w
+    north = (g[1, 0] * x + g[1, 1] * y + g[1, 2]) / w
+    return np.stack([east, north], axis=-1)

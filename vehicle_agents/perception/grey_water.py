@@ -61,8 +61,7 @@ _KERNEL5 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
 _SUM_ROW_3 = np.array([[1.0, 1.0, 1.0, 9.0]], np.float32)
 _BLUE_ROW_3 = np.array([[1.0, 0.0, 0.0, 3.0]], np.float32)
 _LEVELS = np.arange(256.0)
-_LEVEL_POWERS = np.stack((np.ones(256), _LEVELS, _LEVELS * _LEVELS))
-"""Each histogram level to the powers 0, 1 and 2: what the counts, sums and sums of squares add up."""
+_LEVELS_SQUARED = _LEVELS * _LEVELS
 _LOG_TABLE = np.log(np.arange(256, dtype=np.float32) + 1.0).reshape(1, 256)
 
 
@@ -91,20 +90,22 @@ def cue_stack(smooth: NDArray[np.uint8], grey8: NDArray[np.uint8]) -> NDArray[np
 def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] | None = None) -> int | None:
     """Kittler-Illingworth threshold of an 8-bit image (pixels under ``mask`` only): the level t minimising
     ``P1 ln(σ1² / P1²) + P2 ln(σ2² / P2²)`` for the classes ≤ t and > t (two Gaussians fitted to the histogram;
-    counts instead of shares only add a constant). None when no split leaves both classes a spread. The counts,
-    sums and sums of squares of both classes at every level are one (2, 3, 256) array."""
+    counts instead of shares only add a constant). None when no split leaves both classes a spread."""
     hist = cv2.calcHist([score8], [0], mask, [256], [0, 256]).ravel().astype(np.float64)
-    below = np.cumsum(hist * _LEVEL_POWERS, axis=1)
-    total = float(below[0, -1])
+    n1 = np.cumsum(hist)
+    total = float(n1[-1])
     if total <= 0.0:
         return None
-    count, level_sum, square_sum = np.stack((below, below[:, -1:] - below), axis=1)
+    sum1 = np.cumsum(hist * _LEVELS)
+    square1 = np.cumsum(hist * _LEVELS_SQUARED)
+    n2, sum2, square2 = total - n1, sum1[-1] - sum1, square1[-1] - square1
     with np.errstate(divide="ignore", invalid="ignore"):
-        variance = square_sum / count - (level_sum / count) ** 2
-        cost = count * np.log(variance / (count * count))
-    valid = ((count > 0.002 * total) & (variance > 0.5)).all(axis=0)
-    level = int(np.argmin(np.where(valid, cost[0] + cost[1], np.inf)))
-    return level if valid[level] else None
+        var1 = square1 / n1 - (sum1 / n1) ** 2
+        var2 = square2 / n2 - (sum2 / n2) ** 2
+        cost = n1 * np.log(var1 / (n1 * n1)) + n2 * np.log(var2 / (n2 * n2))
+    cost[~((n1 > 0.002 * total) & (n2 > 0.002 * total) & (var1 > 0.5) & (var2 > 0.5))] = np.inf
+    level = int(np.argmin(cost))
+    return level if math.isfinite(cost[level]) else None
 
 
 def _score8(score: NDArray[np.float32], keep: NDArray[np.uint8] | None) -> NDArray[np.uint8]:
@@ -116,16 +117,15 @@ def _score8(score: NDArray[np.float32], keep: NDArray[np.uint8] | None) -> NDArr
 
 def _texture_medians(texture8: NDArray[np.uint8], high: NDArray[np.uint8]) -> tuple[float, float, float]:
     """Median texture [log variance] of the high class, of the low class and of the whole frame, from 8-bit
-    histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance): the first level whose cumulative
-    count reaches half the class's (the top level for an empty class)."""
-    hists = np.empty((3, 256), np.float32)
-    hists[0] = cv2.calcHist([texture8], [0], high, [256], [0, 256]).ravel()
-    hists[2] = cv2.calcHist([texture8], [0], None, [256], [0, 256]).ravel()
-    np.subtract(hists[2], hists[0], out=hists[1])
-    cumulative = np.cumsum(hists, axis=1)
-    levels = np.where(cumulative[:, -1] > 0, np.count_nonzero(cumulative < 0.5 * cumulative[:, -1:], axis=1), 255)
-    high_median, low_median, frame_median = (levels / TEXTURE_LEVELS_PER_UNIT - TEXTURE_OFFSET).tolist()
-    return high_median, low_median, frame_median
+    histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance)."""
+    high_hist = cv2.calcHist([texture8], [0], high, [256], [0, 256]).ravel()
+    all_hist = cv2.calcHist([texture8], [0], None, [256], [0, 256]).ravel()
+    medians = []
+    for hist in (high_hist, all_hist - high_hist, all_hist):
+        cumulative = np.cumsum(hist)
+        level = int(np.searchsorted(cumulative, 0.5 * cumulative[-1])) if cumulative[-1] > 0 else 255
+        medians.append(level / TEXTURE_LEVELS_PER_UNIT - TEXTURE_OFFSET)
+    return medians[0], medians[1], medians[2]
 
 
 def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[NDArray[np.uint8], int | None]:
