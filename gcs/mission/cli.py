@@ -44,7 +44,8 @@ def build_parser() -> argparse.ArgumentParser:
                              "cameras and the radio have done theirs, so a slow host gives a slower run, never a "
                              "different one; free runs at --speed whatever they do (real-time faults)")
     parser.add_argument("--agent-timeout-s", type=float, default=2.0, metavar="S",
-                        help="paced clock: wall seconds an agent may hold a tick before it is left behind (default 2)")
+                        help="paced clock: wall seconds an agent may hold a tick before it is left behind (default 2); "
+                             "longer also becomes the agents' own autopilot-silence timeout")
     parser.add_argument("--startup-timeout-s", type=float, default=60.0, metavar="S",
                         help="processes engine: wall seconds start-up may go without one more agent connecting "
                              "before the run fails as stalled (default 60; a slow start that progresses goes on)")
