@@ -98,9 +98,9 @@ def parse_case(text: str) -> tuple[str, dict[str, str]]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", default="circle:speed=3",
-                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B,reference=DIR,agent_timeout=T] (B: the '
-                             'lockstep reference\'s vehicle backend, px4 by default; DIR: a lockstep run already made; '
-                             'T: the processes run\'s --agent-timeout-s)')
+                        help='";"-separated SCENARIO[:speed=S,clock=C,mode=M,backend=B,reference=DIR,agent_timeout=T] '
+                             '(B: the lockstep reference\'s vehicle backend, px4 by default; DIR: a lockstep run '
+                             'already made; T: the processes run\'s --agent-timeout-s)')
     parser.add_argument("--out", type=Path, default=Path("/tmp/fw_bench_paced"))
     ns = parser.parse_args()
     print(f"machine: {platform.processor() or platform.machine()}, {len(os.sched_getaffinity(0))} cores, "

@@ -17,6 +17,7 @@ from gcs.polygon.radio_node import antenna_enu_m
 from gcs.scenario import Scenario
 from mission_plan.control_params import ControlMode
 from mock_autopilot.ports import onboard_port
+from vehicle_agents.flight_phase import PhaseLimits
 
 
 @dataclass(frozen=True)
@@ -119,9 +120,6 @@ def ground_node_args(scenario: Scenario) -> list[str]:
     return ["--ground-node", *(f"{c:.3f}" for c in antenna)]
 
 
-AGENT_LINK_TIMEOUT_S = 2.0
-"""An agent's own default: wall seconds of silence from its autopilot after which the vehicle counts as lost."""
-
 MESH_LIMIT = 50
 """Up to this many agents every process is a Zenoh peer and the peers mesh (one direct link per pair: the
 fewest hops). Beyond it the agents join as clients of the mission hub, which routes for them: a mesh of 200 agents
@@ -134,11 +132,12 @@ def agent_command(options: ProcessOptions, vehicle_id: int, plan: Path, fleet_si
     A paced run given a longer agent timeout than the agents' own link timeout passes it on as their link timeout:
     a host that may hold an agent silent that long can hold its MAVSDK thread as long, and on two cores ``large``
     lost three agents to their 2 s wall-clock watchdog while their autopilots were streaming (docs/BENCHMARKS.md).
-    The free clock keeps the agents' 2 s, as a real companion computer would."""
+    The default agent timeout and the free clock keep the agents' own 2 s (SPEC §7: a lost autopilot noticed within
+    3 s), as a real companion computer would."""
     port = onboard_port(options.mavlink_base_port, vehicle_id - 1, options.gcs_port)
     zenoh_mode = ["--zenoh-mode", "client"] if fleet_size > MESH_LIMIT else []
     link_timeout = (["--link-timeout", f"{options.agent_timeout_s:g}"]
-                    if options.clock == "paced" and options.agent_timeout_s > AGENT_LINK_TIMEOUT_S else [])
+                    if options.clock == "paced" and options.agent_timeout_s > PhaseLimits.link_timeout_s else [])
     return [
         "vehicle_agents", "--plan", str(plan), "--mavlink", f"udpin://0.0.0.0:{port}", "--link", options.agent_link,
         "--speed", f"{options.speed:g}", "--clock", options.clock, "--connect", options.zenoh_endpoint,
