@@ -4,8 +4,8 @@ An overloaded simulation host is not a safe one: agents fall behind their contro
 autopilots late, PX4's offboard-loss failsafe fires and drones pass closer than the collision barrier allows
 (docs/BENCHMARKS.md, Mission). The figures below are the per-process CPU shares measured there on a 2-core Xeon:
 an agent costs ~4.5 % of a core at 5 Hz, ~6.5 % at 10 Hz and ~10 % at 20 Hz of wall-clock control rate (a fixed part
-for MAVSDK's and Zenoh's threads plus a part per step), and the fleet, camera, radio and ground-station processes
-together ~0.55 core for 13 vehicles, growing slowly with the fleet.
+for MAVSDK's and Zenoh's threads plus a part per step, which grows with the neighbours it hears), and the fleet,
+camera, radio and ground-station processes together ~0.55 core for 13 vehicles, growing slowly with the fleet.
 """
 
 from __future__ import annotations
@@ -23,7 +23,12 @@ AGENT_MIN_NICENESS = 5
 AGENT_FIXED_CORES = 0.027
 """An idle agent's share of a core (MAVSDK's and Zenoh's own threads, telemetry)."""
 AGENT_CORES_PER_HZ = 0.0036
-"""An agent's extra share of a core per control step per wall second."""
+"""An agent's extra share of a core per control step per wall second, hearing 12 neighbours (``circle``)."""
+AGENT_CORES_PER_HZ_PER_NEIGHBOUR = 0.000077
+"""... and per neighbour heard beyond (or short of) those 12: the main thread decodes, checks and files every state
+it hears each tick. Measured on `large` as processes (every agent hears ~207 at its 100 m radio range): 17.8 ms per
+tick against 2.7 ms hearing 12, i.e. (17.8 - 2.7) ms / 195 neighbours (docs/BENCHMARKS.md)."""
+NEIGHBOURS_MEASURED = 12
 SERVICES_CORES = 0.45
 """Fleet, cameras, radio and ground station, without vehicles (measured nearly flat from x1 to x2)."""
 SERVICES_CORES_PER_VEHICLE = 0.008
@@ -76,9 +81,12 @@ def agent_niceness(fleet_size: int) -> int:
 
 def estimate_capacity(vehicles: int, control_rate_hz: float, speed: float, available_cores: int) -> CapacityEstimate:
     """The estimate for ``vehicles`` agents stepping at ``control_rate_hz`` of mission time, ``speed`` times faster
-    than the wall clock, on ``available_cores``."""
+    than the wall clock, on ``available_cores``; every agent is taken to hear all the others (the radio range of the
+    bundled scenarios spans their formations)."""
     wall_rate_hz = control_rate_hz * speed
-    agents = vehicles * (AGENT_FIXED_CORES + AGENT_CORES_PER_HZ * wall_rate_hz)
+    heard_beyond = max(vehicles - 1, 0) - NEIGHBOURS_MEASURED
+    per_step = AGENT_CORES_PER_HZ + AGENT_CORES_PER_HZ_PER_NEIGHBOUR * heard_beyond
+    agents = vehicles * (AGENT_FIXED_CORES + per_step * wall_rate_hz)
     services = SERVICES_CORES + SERVICES_CORES_PER_VEHICLE * vehicles
     return CapacityEstimate(needed_cores=agents + services, available_cores=max(1, available_cores))
 
