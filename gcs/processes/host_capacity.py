@@ -29,6 +29,7 @@ AGENT_CORES_PER_HZ_PER_NEIGHBOUR = 0.000077
 it hears each tick. Measured on `large` as processes (every agent hears ~207 at its 100 m radio range): 17.8 ms per
 tick against 2.7 ms hearing 12, i.e. (17.8 - 2.7) ms / 195 neighbours (docs/BENCHMARKS.md)."""
 NEIGHBOURS_MEASURED = 12
+"""The neighbours an agent of ``circle`` hears: what :data:`AGENT_CORES_PER_HZ` was measured with."""
 SERVICES_CORES = 0.45
 """Fleet, cameras, radio and ground station, without vehicles (measured nearly flat from x1 to x2)."""
 SERVICES_CORES_PER_VEHICLE = 0.008
@@ -81,8 +82,8 @@ def agent_niceness(fleet_size: int) -> int:
 
 def estimate_capacity(vehicles: int, control_rate_hz: float, speed: float, available_cores: int) -> CapacityEstimate:
     """The estimate for ``vehicles`` agents stepping at ``control_rate_hz`` of mission time, ``speed`` times faster
-    than the wall clock, on ``available_cores``; every agent is taken to hear all the others (the radio range of the
-    bundled scenarios spans their formations)."""
+    than the wall clock, on ``available_cores``; every agent is taken to hear all the others (an upper bound, and
+    what the agents of ``circle`` and ``large`` do)."""
     wall_rate_hz = control_rate_hz * speed
     heard_beyond = max(vehicles - 1, 0) - NEIGHBOURS_MEASURED
     per_step = AGENT_CORES_PER_HZ + AGENT_CORES_PER_HZ_PER_NEIGHBOUR * heard_beyond
