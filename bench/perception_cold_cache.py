@@ -48,18 +48,22 @@ def halved(frames: list[Frame]) -> list[Frame]:
             for image, h, fov, yaw in frames]
 
 
+def _perceive_cpu_s(frame: Frame) -> float:
+    """Thread CPU time [s] of one ``perceive`` call on ``frame``."""
+    image, h, fov, yaw = frame
+    start = time.thread_time()
+    perceive(image, h, fov, yaw)
+    return time.thread_time() - start
+
+
 def one_round(cases: dict[str, list[Frame]], sweep: np.ndarray) -> dict[str, float]:
     """p50 thread CPU [ms] of ``perceive`` per case, warm and cold, cases interleaved frame by frame."""
     samples: dict[str, list[float]] = {f"{name}, {state}": [] for name in cases for state in ("warm", "cold")}
     for i in range(len(next(iter(cases.values())))):
         for name, frames in cases.items():
-            image, h, fov, yaw = frames[i]
-            for state in ("cold", "warm"):
-                if state == "cold":
-                    float(sweep.sum())
-                a = time.thread_time()
-                perceive(image, h, fov, yaw)
-                samples[f"{name}, {state}"].append(time.thread_time() - a)
+            sweep.sum()
+            samples[f"{name}, cold"].append(_perceive_cpu_s(frames[i]))
+            samples[f"{name}, warm"].append(_perceive_cpu_s(frames[i]))
     return {key: float(np.median(values)) * 1e3 for key, values in samples.items()}
 
 
