@@ -34,7 +34,6 @@ MIN_SLIVER_BLUENESS = 12.0
 """... unless the small class is clearly blue: this far above neutral on average [DN] (water mirroring a blue
 sky lies 20-35 above it)."""
 _KERNEL3 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
-_BLUENESS_ROW = np.array([[1.0, -0.5, -0.5, 128.0]], np.float32)
 
 
 def segment_water(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.nan
@@ -73,6 +72,15 @@ def segment_water_with_shore(image_bgr: NDArray[np.uint8], ground_sample_m: floa
     return grey
 
 
+def _blueness(image_bgr: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """``B − (G + R)/2 + 128`` per pixel, rounded half to even and saturated to 8 bits: ``2B − G − R`` in 16-bit
+    integers, halved and offset in one conversion (the same bytes as the floating-point transform, on all 2^24
+    colours, at two thirds of its cost)."""
+    blue, green, red = cv2.split(image_bgr)
+    twice = cv2.subtract(cv2.add(blue, blue, dtype=cv2.CV_16S), cv2.add(green, red, dtype=cv2.CV_16S))
+    return cv2.addWeighted(twice, 0.5, twice, 0.0, NEUTRAL_BLUENESS, dtype=cv2.CV_8U)
+
+
 def _blue_water(image_bgr: NDArray[np.uint8], ground_sample_m: float
                 ) -> tuple[NDArray[np.bool_] | None, NDArray[np.uint8], float] | None:
     """Clear or murky water under a blue sky: the blueness ``B − (G + R)/2 + 128`` is above neutral grey for water
@@ -80,7 +88,7 @@ def _blue_water(image_bgr: NDArray[np.uint8], ground_sample_m: float
     Otsu's split is moved half-way between the class means, or to neutral when that lies far from it (Otsu split
     grass from dry grass beside a sliver of water); a frame whose pixels are all above neutral is water. None when
     the frame holds no blue water (the other cue decides)."""
-    blueness = cv2.transform(image_bgr, _BLUENESS_ROW)
+    blueness = _blueness(image_bgr)
     if cv2.minMaxLoc(blueness)[1] <= NEUTRAL_BLUENESS - MAX_THRESHOLD_SHIFT:
         return None  # no pixel can be above any threshold this cue would use: no blue water
     _, binary = cv2.threshold(blueness, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
