@@ -34,7 +34,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from vehicle_agents.perception.shore import refine_shore
+from vehicle_agents.perception.shore import COLOUR_SIGNS, colour_score
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -154,13 +154,11 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
 
 @dataclass(frozen=True)
 class ShoreByColour:
-    """An accepted split's shore placed again by colour: its (H, W) water mask, the colour score and the level
-    half-way between the water's and the land's beside the shore
-    (:func:`vehicle_agents.perception.shore.refine_shore`)."""
+    """What places an accepted split's shore again by colour: the frame's (H, W) colour score
+    (:func:`vehicle_agents.perception.shore.colour_score`, the split's signs and spreads), read along the split's
+    boundary steps (:func:`vehicle_agents.perception.shore.shore_along_steps`)."""
 
-    mask: NDArray[np.bool_]
     score: NDArray[np.float32]
-    threshold: float
 
 
 def grey_water_with_shore(image_bgr: NDArray[np.uint8]
@@ -168,7 +166,7 @@ def grey_water_with_shore(image_bgr: NDArray[np.uint8]
     """(water mask or None for a one-class frame, 8-bit score, threshold, shore placed by colour) for a valid
     (H, W, 3) uint8 image; a one-class frame's threshold puts the frame's mean score above it when the frame is water.
     The split is found at half resolution; the mask is the full-resolution (bilinear) score over the same threshold.
-    The shore is None for a one-class frame or when colour cannot place it."""
+    The shore is None for a one-class frame."""
     smooth = cv2.medianBlur(image_bgr, 3)
     grey8 = cv2.cvtColor(smooth, cv2.COLOR_BGR2GRAY)
     cues = cue_stack(smooth, grey8)
@@ -190,8 +188,8 @@ def grey_water_with_shore(image_bgr: NDArray[np.uint8]
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
             min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            refined = refine_shore(water, smooth, cv2.LUT(grey8, _LOG_TABLE), std.ravel()[[0, 1, 3]].astype(np.float32))
-            shore = None if refined is None else ShoreByColour(_open_close(refined[0]).view(bool), *refined[1:])
+            colour_weights = COLOUR_SIGNS / (std.ravel()[[0, 1, 3]].astype(np.float32) + np.float32(1e-9))
+            shore = ShoreByColour(colour_score(smooth, cv2.LUT(grey8, _LOG_TABLE), colour_weights))
             return water.view(bool), full, threshold + 0.5, shore
         if not inside:
             frame_tex = water_tex if fraction > 0.5 else land_tex

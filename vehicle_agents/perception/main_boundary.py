@@ -16,7 +16,7 @@ longest chain is the shore. Another chain is kept only when it too runs into the
 across a bend) keeps both of its pieces, while a closed boundary inside the frame, however long, is a patch and not
 the edge of a flood larger than the footprint.
 
-Pure: image points in, a subset of the same points out.
+Pure: image points in, which of them to keep out.
 """
 
 from __future__ import annotations
@@ -34,13 +34,14 @@ piece of the shore."""
 _LINK = cv2.getStructuringElement(cv2.MORPH_RECT, (LINK_PX, LINK_PX))
 
 
-def main_boundary_points(points_px: NDArray[np.float64], shape: tuple[int, int]) -> NDArray[np.float64]:
-    """The points (K, 2) [px; x, y] of ``points_px`` on the frame's shore (see the module), in their order.
+def main_boundary_kept(points_px: NDArray[np.float64], shape: tuple[int, int]) -> NDArray[np.bool_] | None:
+    """Which of the points (K, 2) [px; x, y] lie on the frame's shore (see the module): a (K,) mask, or None when
+    the points form one boundary and all are kept.
 
-    ``shape`` is the frame's (H, W). Frames whose points form one boundary are returned as they are.
+    ``shape`` is the frame's (H, W).
     """
     if points_px.shape[0] < 3:
-        return points_px
+        return None
     height, width = shape
     pixels = points_px.astype(np.int32)  # the points lie between pixel centres, inside the frame
     columns, rows = pixels[:, 0], pixels[:, 1]
@@ -48,11 +49,11 @@ def main_boundary_points(points_px: NDArray[np.float64], shape: tuple[int, int])
     marks[rows, columns] = 1
     count, labels = cv2.connectedComponents(cv2.dilate(marks, _LINK), connectivity=8, ltype=cv2.CV_16U)
     if count <= 2:
-        return points_px
+        return None
     label_of = labels[rows, columns]
     sizes = np.bincount(label_of, minlength=count)
     at_border = (columns < LINK_PX) | (rows < LINK_PX) | (columns >= width - LINK_PX) | (rows >= height - LINK_PX)
     reaches_border = np.bincount(label_of[at_border], minlength=count) > 0
     kept = reaches_border & (sizes >= MIN_KEPT_FRACTION * sizes.max())
     kept[int(np.argmax(sizes))] = True
-    return points_px[kept[label_of]]
+    return kept[label_of]

@@ -32,9 +32,10 @@ class PerceptionResult:
     edge_points_en_m: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
     """Boundary pixels seen, as (K, 2) offsets from the drone [m; east, north]."""
     shore_points_en_m: NDArray[np.float64] | None = None
-    """Where the grey-water cue split the frame: the shore placed again by colour at full resolution
-    (:mod:`vehicle_agents.perception.shore`), (K, 2) offsets like the edge points, what the drone reports of the
-    shore; None where the edge points are the shore already (the blue cue)."""
+    """Where the grey-water cue split the frame: the shore placed again by colour along the boundary steps of the
+    edge points (:mod:`vehicle_agents.perception.shore`), one per edge point and in their order, (K, 2) offsets
+    like them, what the drone reports of the shore; None where the edge points are the shore already (the blue
+    cue) or colour cannot place it."""
     water_centroid_px: NDArray[np.float64] | None = None
     """Water centroid in the image [px; column, row from the top-left corner, pixel centres at +0.5]."""
     land_centroid_px: NDArray[np.float64] | None = None

@@ -22,9 +22,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from comms.camera_projection import pixel_to_ground, project_pixels
+from vehicle_agents.perception.boundary_steps import boundary_steps, step_points_px
 from vehicle_agents.perception.grey_water import ShoreByColour
-from vehicle_agents.perception.main_boundary import main_boundary_points
+from vehicle_agents.perception.main_boundary import main_boundary_kept
 from vehicle_agents.perception.result import PerceptionResult
+from vehicle_agents.perception.shore import shore_along_steps
 from vehicle_agents.perception.water_mask import segment_water_with_shore
 
 MIN_SIDE_PX = 8
@@ -120,19 +122,21 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
                  shore: ShoreByColour | None = None) -> PerceptionResult:
     """What a frame holding both classes tells: centroids and their midpoint (eq 5's ``p − q``), the edge points,
     its normal (water to land) and tangent (water on the left), all on the ground; and the shore points placed by
-    colour when the grey-water cue split the frame."""
+    colour when the grey-water cue split the frame, in the order of the edge points (each on the same boundary step
+    as its edge point)."""
     h, w = mask.shape
     n = h * w
     n_water, sum_x, sum_y = _water_moments(mask)
     # Pixel-centre moments (x = column + 0.5, y = row + 0.5); the whole image's are known in closed form.
     water_px = np.array([sum_x / n_water + 0.5, sum_y / n_water + 0.5])
     land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
-    water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px)
-    edge_en = _shore_on_ground(mask, score, threshold, to_ground)
+    water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px, n_water)
+    edge_en, shore_en = _shore_on_ground(mask, score, threshold, to_ground, shore)
     normal = _edge_normal(edge_en, land_en - water_en)
     if normal is None:
         return PerceptionResult.no_measurement(footprint_m)
     tangent = np.array([-normal[1], normal[0]])
+    along = _along_the_edge(edge_en, tangent, max_edge_points)
     return PerceptionResult(
         has_edge=True,
         water_fraction=float(n_water / n),
@@ -144,9 +148,8 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
         land_centroid_en_m=land_en,
         edge_normal_en=normal,
         edge_tangent_en=tangent,
-        edge_points_en_m=_along_the_edge(edge_en, tangent, max_edge_points),
-        shore_points_en_m=None if shore is None else _along_the_edge(
-            _shore_on_ground(shore.mask, shore.score, shore.threshold, to_ground), tangent, max_edge_points),
+        edge_points_en_m=edge_en[along],
+        shore_points_en_m=None if shore_en is None else shore_en[along],
         water_centroid_px=water_px,
         land_centroid_px=land_px,
         ground_sample_m=footprint_m / w,
@@ -155,11 +158,23 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
 
 
 def _shore_on_ground(mask: NDArray[np.bool_], score: NDArray[np.generic], threshold: float,
-                     to_ground: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The sub-pixel boundary points of ``mask`` on its shore (:mod:`vehicle_agents.perception.main_boundary`),
-    projected to the ground: (K, 2) offsets from the drone [m; east, north]."""
-    points_px = main_boundary_points(_edge_points_px(mask, score, threshold), mask.shape)
-    return project_pixels(to_ground, points_px[:, 0], points_px[:, 1]) if len(points_px) else np.zeros((0, 2))
+                     to_ground: NDArray[np.float64], shore: ShoreByColour | None
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """The sub-pixel points of ``mask``'s boundary on its shore (:mod:`vehicle_agents.perception.boundary_steps`,
+    :mod:`vehicle_agents.perception.main_boundary`), and the shore placed by colour along the same steps when the
+    grey-water split gave its colour score (None otherwise, or when colour cannot place it), projected to the
+    ground: (K, 2) offsets from the drone [m; east, north]."""
+    m8 = mask.view(np.uint8)
+    steps = boundary_steps(m8)
+    if steps is None:
+        return np.zeros((0, 2)), None
+    points_px = step_points_px(steps, score, threshold)
+    kept = main_boundary_kept(points_px, mask.shape)
+    if kept is not None:
+        steps, points_px = steps.subset(kept), points_px[kept]
+    edge_en = project_pixels(to_ground, points_px[:, 0], points_px[:, 1])
+    shore_px = None if shore is None else shore_along_steps(steps, m8, shore.score)
+    return edge_en, None if shore_px is None else project_pixels(to_ground, shore_px[:, 0], shore_px[:, 1])
 
 
 def _water_moments(mask: NDArray[np.bool_]) -> tuple[float, float, float]:
@@ -193,29 +208,33 @@ def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64
 
 
 def _along_the_edge(edge_en: NDArray[np.float64], tangent: NDArray[np.float64], max_points: int
-                    ) -> NDArray[np.float64]:
-    """The edge points sorted along the tangent, at most ``max_points`` of them taken evenly."""
-    if edge_en.shape[0] == 0:
-        return edge_en
-    edge_en = edge_en[np.argsort(edge_en @ tangent, kind="stable")]
-    k = edge_en.shape[0]
+                    ) -> NDArray[np.intp]:
+    """Indices of the edge points sorted along the tangent, at most ``max_points`` of them taken evenly."""
+    order = np.argsort(edge_en @ tangent, kind="stable")
+    k = order.shape[0]
     if k > max_points > 1:
-        edge_en = edge_en[np.arange(max_points) * (k - 1) // (max_points - 1)]
-    return edge_en
+        order = order[np.arange(max_points) * (k - 1) // (max_points - 1)]
+    return order
 
 
 def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], water_px: NDArray[np.float64],
-                      land_px: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+                      land_px: NDArray[np.float64], n_water: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Mean ground offset [m; east, north] of the water and of the land pixels. Level, the projection is affine and
-    maps the pixel centroids exactly; tilted, each pixel centre is projected and averaged."""
+    maps the pixel centroids exactly. Tilted, every pixel centre p = (x, y, 1) lands at (g0·p, g1·p) / g2·p, so a
+    class's sum of ground points is g0 and g1 applied to its sums of p / g2·p: three moments of one weight image,
+    taken from its per-column and per-row sums over the class."""
     if to_ground[2, 0] == 0.0 and to_ground[2, 1] == 0.0:
         return _project_point(to_ground, water_px), _project_point(to_ground, land_px)
-    centres = _pixel_centres(mask.shape[1], mask.shape[0])
-    ground = cv2.perspectiveTransform(centres, to_ground).reshape(mask.shape + (2,))
-    m8 = mask.view(np.uint8)
-    water = cv2.mean(ground, mask=m8)[:2]
-    land = cv2.mean(ground, mask=cv2.bitwise_not(m8) & 1)[:2]
-    return np.array(water), np.array(land)
+    height, width = mask.shape
+    x, y = _pixel_centre_coordinates(width), _pixel_centre_coordinates(height)
+    weight = 1.0 / ((to_ground[2, 1] * y + to_ground[2, 2])[:, None] + to_ground[2, 0] * x)
+    water_weight = weight * mask
+    all_columns, water_columns = weight.sum(axis=0), water_weight.sum(axis=0)
+    all_moments = np.array([all_columns @ x, weight.sum(axis=1) @ y, all_columns.sum()])
+    water_moments = np.array([water_columns @ x, water_weight.sum(axis=1) @ y, water_columns.sum()])
+    water_sum = to_ground[:2] @ water_moments
+    land_sum = to_ground[:2] @ (all_moments - water_moments)
+    return water_sum / n_water, land_sum / (height * width - n_water)
 
 
 def _project_point(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -227,37 +246,6 @@ def _project_point(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> 
 
 
 @lru_cache(maxsize=8)
-def _pixel_centres(width_px: int, height_px: int) -> NDArray[np.float32]:
-    """(H·W, 1, 2) image coordinates of every pixel centre, for ``cv2.perspectiveTransform``."""
-    x, y = np.meshgrid(np.arange(width_px) + 0.5, np.arange(height_px) + 0.5)
-    return np.stack([x, y], axis=-1).reshape(-1, 1, 2).astype(np.float32)
-
-
-def _edge_points_px(mask: NDArray[np.bool_], chroma: NDArray[np.uint8], threshold: float) -> NDArray[np.float64]:
-    """Sub-pixel points where the water mask changes between 4-neighbours, (K, 2) image (x, y) [px].
-
-    Each point lies on the segment between the two pixel centres, where the chroma crosses the threshold
-    (linear interpolation, clamped to the segment's middle half so a noisy pixel cannot throw it far).
-    """
-    m8 = mask.view(np.uint8)
-    width = chroma.shape[1]
-    flat = chroma.reshape(-1)
-    found = [cv2.findNonZero(cv2.bitwise_xor(m8[:, :-1], m8[:, 1:])),  # steps along a row (x)
-             cv2.findNonZero(cv2.bitwise_xor(m8[:-1, :], m8[1:, :]))]  # steps down a column (y)
-    along_x = 0 if found[0] is None else len(found[0])
-    parts = [f.reshape(-1, 2) for f in found if f is not None]
-    if not parts:
-        return np.zeros((0, 2))
-    xy = np.concatenate(parts) if len(parts) > 1 else parts[0]
-    index = xy[:, 1] * width + xy[:, 0]
-    a = flat[index].astype(np.float32)
-    index[:along_x] += 1
-    index[along_x:] += width
-    b = flat[index].astype(np.float32)
-    frac = np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a)
-    np.maximum(frac, 0.25, out=frac)
-    np.minimum(frac, 0.75, out=frac)
-    point = xy + 0.5
-    point[:along_x, 0] += frac[:along_x]
-    point[along_x:, 1] += frac[along_x:]
-    return point
+def _pixel_centre_coordinates(n: int) -> NDArray[np.float64]:
+    """(n,) pixel-centre coordinates 0.5 .. n − 0.5 along one image axis."""
+    return np.arange(n) + 0.5

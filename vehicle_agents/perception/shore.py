@@ -3,15 +3,20 @@
 The grey-water split is found on cues averaged over about 6x6 pixels, and one of them, the fine texture, is a
 windowed statistic: a window that straddles the shore holds the step between the two colours and reads as rough,
 so the shore reads as land on both sides and the split's boundary lands one to three pixels into the water (a
-bias, not noise: 0.1-0.2 m at 10 m, every edge point inside the flood). Colour has no such window. So the
-boundary is placed again at full resolution from the colour cues alone (chromaticity, saturation, brightness of
-the 3x3-median image, standardised and signed as in the split), within ``BAND_PX`` of the split's boundary:
-a pixel there is water when its colour score is above the level half-way between the water and the land seen
-just beyond the band (``BAND_PX`` to ``RING_PX`` from the boundary, on each side). A step between two colours,
-however blurred, crosses its half-way level where the step is, and the two levels are measured beside this
-frame's shore (wet soil, shadow and exposure included), never assumed.
+bias, not noise: 0.1-0.2 m at 10 m, every edge point inside the flood). Colour has no such window. So the shore is
+placed again from the colour cues alone (chromaticity, saturation, brightness of the 3x3-median image, standardised
+and signed as in the split), along each step of the split's boundary (:mod:`vehicle_agents.perception.boundary_steps`:
+a water pixel beside a land pixel, along a row or down a column): the samples within ``BAND_PX`` of the step on
+that line are classified by their colour score against the level half-way between the water and the land seen
+just beyond the band (``BAND_PX`` to ``RING_PX`` from the step on each side, over all the steps, on pixels the split
+put on that side), and the shore point lies after as many samples from the water end as read water, at the sub-pixel
+crossing of the half-way level. A step between two colours, however blurred, crosses its half-way level where the
+step is, and the two levels are measured beside this frame's shore (wet soil, shadow and exposure included), never
+assumed. Counting the samples instead of looking for the first crossing keeps one noisy sample from moving the
+point. The band is longer than the split's bias because a row or column crosses a slanting shore at a slant: a
+shore 4 px away across it can lie 5-6 px away along the line.
 
-No refinement is made when either side's ring is nearly empty or the colour does not tell the two sides apart
+No shore is placed when either side's ring holds too few samples or the colour does not tell the two sides apart
 there (water not above land in the colour score): the split's boundary stands.
 """
 
@@ -21,16 +26,26 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-BAND_PX = 3
-"""Pixels within this distance of the split's boundary (Chebyshev) are classified again by colour."""
-RING_PX = 8
-"""The water and land levels are the mean colour scores from ``BAND_PX`` to this distance of the boundary."""
-MIN_RING_PX = 10
-"""Each side's ring must hold at least this many pixels for its level to be trusted."""
+from vehicle_agents.perception.boundary_steps import BoundarySteps
+
+BAND_PX = 5
+"""Samples this many pixels or fewer beyond a step's own two pixels, along its line, are classified by colour."""
+RING_PX = 10
+"""The water and land levels are the mean colour scores of the samples beyond ``BAND_PX`` up to this far."""
+MIN_RING_SAMPLES = 10
+"""Each side's ring must hold at least this many samples for its level to be trusted."""
 COLOUR_SIGNS = np.array([1.0, -1.0, 1.0], np.float32)
 """Signs of the standardised chromaticity, saturation and log brightness in the colour score (water positive)."""
-_BAND = cv2.getStructuringElement(cv2.MORPH_RECT, (2 * BAND_PX + 1, 2 * BAND_PX + 1))
-_RING = cv2.getStructuringElement(cv2.MORPH_RECT, (2 * RING_PX + 1, 2 * RING_PX + 1))
+_OFFSETS = np.arange(-RING_PX, RING_PX + 2, dtype=np.int32)
+"""Sample positions along a step's line, from its water pixel (0) towards its land pixel (1)."""
+_WATER_RING = _OFFSETS < -BAND_PX
+_LAND_RING = _OFFSETS > BAND_PX + 1
+_BAND = slice(RING_PX - BAND_PX, RING_PX + BAND_PX + 2)
+"""The band's samples: offsets -BAND_PX .. BAND_PX + 1."""
+_BAND_SAMPLES = 2 * BAND_PX + 2
+_ONES_BAND = np.ones(_BAND_SAMPLES, np.int32)
+_PAD = RING_PX + 2
+"""The frame is padded this wide so that no sample along a step's line falls outside it."""
 _SUM_ROW = np.array([[1.0, 1.0, 1.0, 9.0]], np.float32)
 
 
@@ -48,24 +63,46 @@ def colour_score(smooth_bgr: NDArray[np.uint8], log_grey: NDArray[np.float32], w
     return cv2.scaleAdd(log_grey, float(weights[2]), ratio)
 
 
-def refine_shore(coarse: NDArray[np.uint8], smooth_bgr: NDArray[np.uint8], log_grey: NDArray[np.float32],
-                 cue_std: NDArray[np.float32]) -> tuple[NDArray[np.uint8], NDArray[np.float32], float] | None:
-    """(water mask 0/1, colour score, its threshold) with the shore placed by colour near ``coarse``'s boundary,
-    or None when the colour cannot place it (see the module). ``coarse`` is the split's (H, W) 0/1 mask,
-    ``smooth_bgr`` the 3x3-median frame, ``log_grey`` its log brightness, ``cue_std`` the spread of chromaticity,
-    saturation and log brightness over the frame (to standardise them)."""
-    near_outside = cv2.dilate(coarse, _BAND)
-    near_inside = cv2.erode(coarse, _BAND)
-    water_ring = cv2.subtract(near_inside, cv2.erode(coarse, _RING))
-    land_ring = cv2.subtract(cv2.dilate(coarse, _RING), near_outside)
-    if cv2.countNonZero(water_ring) < MIN_RING_PX or cv2.countNonZero(land_ring) < MIN_RING_PX:
+def shore_along_steps(steps: BoundarySteps, water: NDArray[np.uint8], score: NDArray[np.float32]
+                      ) -> NDArray[np.float64] | None:
+    """(K, 2) image (x, y) [px] of the shore placed by colour along each of ``steps`` (see the module), or None
+    when the colour cannot place it. ``water`` is the split's (H, W) 0/1 mask, ``score`` the frame's colour score
+    (:func:`colour_score`, water high). Samples beyond the frame's side read the score of the pixel on the side and
+    belong to neither ring."""
+    padded_score = cv2.copyMakeBorder(score, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE).reshape(-1)
+    padded_water = cv2.copyMakeBorder(water, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_CONSTANT, value=2).reshape(-1)
+    padded_width = water.shape[1] + 2 * _PAD
+    first = steps.first_px
+    along_x = steps.along_x
+    first_flat = (first[:, 1] + _PAD) * padded_width + (first[:, 0] + _PAD)
+    stride = np.full(first.shape[0], padded_width, np.int32)
+    stride[:along_x] = 1
+    water_first = padded_water[first_flat] == 1
+    towards_land = np.where(water_first, stride, -stride)
+    water_flat = np.where(water_first, first_flat, first_flat + stride)
+    flat = water_flat[:, None] + towards_land[:, None] * _OFFSETS
+    samples = padded_score[flat]
+    side = padded_water[flat]
+    water_ring = samples[_WATER_RING & (side == 1)]
+    land_ring = samples[_LAND_RING & (side == 0)]
+    if water_ring.size < MIN_RING_SAMPLES or land_ring.size < MIN_RING_SAMPLES:
         return None
-    score = colour_score(smooth_bgr, log_grey, COLOUR_SIGNS / (cue_std + np.float32(1e-9)))
-    water_level = cv2.mean(score, mask=water_ring)[0]
-    land_level = cv2.mean(score, mask=land_ring)[0]
+    water_level = float(water_ring.sum()) / water_ring.size
+    land_level = float(land_ring.sum()) / land_ring.size
     if water_level <= land_level:
         return None
-    threshold = 0.5 * (water_level + land_level)
-    band = cv2.subtract(near_outside, near_inside)
-    by_colour = cv2.bitwise_and(band, cv2.compare(score, threshold, cv2.CMP_GT))
-    return cv2.bitwise_or(cv2.subtract(coarse, band), by_colour), score, float(threshold)
+    threshold = np.float32(0.5 * (water_level + land_level))
+    band = samples[:, _BAND]
+    n_water = (band > threshold).view(np.uint8) @ _ONES_BAND
+    last = np.minimum(np.maximum(n_water - 1, 0), _BAND_SAMPLES - 2)
+    rows = np.arange(first.shape[0])
+    a, b = band[rows, last], band[rows, last + 1]
+    frac = np.divide(threshold - a, b - a, out=np.full(a.shape, 0.5, np.float32), where=b != a)
+    along = (last - BAND_PX) + np.minimum(np.maximum(frac, 0.25), 0.75)
+    along[n_water == 0] = -BAND_PX - 0.5
+    along[n_water == _BAND_SAMPLES] = BAND_PX + 1.5
+    shift = np.where(water_first, along, 1.0 - along)
+    point = first + 0.5
+    point[:along_x, 0] += shift[:along_x]
+    point[along_x:, 1] += shift[along_x:]
+    return point

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from vehicle_agents.control.vision_tracking import tracked_offset_en_m
-from vehicle_agents.perception.main_boundary import main_boundary_points
+from vehicle_agents.perception.main_boundary import main_boundary_kept
 from vehicle_agents.perception.segmentation import perceive
 
 SHAPE = (128, 128)
@@ -20,15 +20,20 @@ def ring(centre_px: tuple[float, float], radius_px: float, count: int) -> np.nda
     return np.column_stack([centre_px[0] + radius_px * np.cos(angle), centre_px[1] + radius_px * np.sin(angle)])
 
 
-def test_one_boundary_is_returned_as_it_is() -> None:
+def kept_points(points: np.ndarray) -> np.ndarray:
+    kept = main_boundary_kept(points, SHAPE)
+    return points if kept is None else points[kept]
+
+
+def test_one_boundary_is_kept_whole() -> None:
     shore = vertical_shore(64.3, np.arange(128.0))
-    assert main_boundary_points(shore, SHAPE) is shore
+    assert main_boundary_kept(shore, SHAPE) is None
 
 
 def test_a_blob_beside_the_shore_is_left_out() -> None:
     shore = vertical_shore(64.3, np.arange(128.0))
     blob = ring((100.0, 30.0), 5.0, 32)
-    kept = main_boundary_points(np.concatenate([blob, shore]), SHAPE)
+    kept = kept_points(np.concatenate([blob, shore]))
     assert np.array_equal(kept, shore)
 
 
@@ -37,14 +42,14 @@ def test_a_shore_that_leaves_the_frame_and_comes_back_keeps_both_pieces() -> Non
     lower = vertical_shore(90.3, np.arange(70.0, 128.0))
     speck = ring((10.0, 110.0), 2.0, 12)
     points = np.concatenate([upper, speck, lower])
-    kept = main_boundary_points(points, SHAPE)
+    kept = kept_points(points)
     assert np.array_equal(kept, np.concatenate([upper, lower]))
 
 
 def test_a_boundary_broken_by_a_pixel_is_one_boundary() -> None:
     rows = np.delete(np.arange(128.0), [60, 61])
     shore = vertical_shore(64.3, rows)
-    assert main_boundary_points(shore, SHAPE) is shore
+    assert main_boundary_kept(shore, SHAPE) is None
 
 
 def test_a_frame_with_a_water_blob_in_the_land_tracks_the_shore() -> None:

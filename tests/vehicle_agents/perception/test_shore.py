@@ -1,12 +1,13 @@
-"""Placing the grey-water shore by colour (pure function, synthetic frames: two flat colours with texture on the
-land, the step at a known column)."""
+"""Placing the grey-water shore by colour along the split's boundary steps (pure function, synthetic frames: two flat
+colours with texture on the land, the step at a known column)."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from vehicle_agents.perception.segmentation import perceive
-from vehicle_agents.perception.shore import BAND_PX, refine_shore
+from vehicle_agents.perception.boundary_steps import BoundarySteps, boundary_steps
+from vehicle_agents.perception.shore import BAND_PX, COLOUR_SIGNS, colour_score, shore_along_steps
 
 SIZE = 96
 STEP_COLUMN = 50
@@ -39,45 +40,52 @@ def cues_of(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return log_grey, np.array([chromaticity.std(), saturation.std(), log_grey.std()], np.float32)
 
 
+def shore_of(coarse: np.ndarray, image: np.ndarray, log_grey: np.ndarray, spread: np.ndarray
+             ) -> tuple[np.ndarray | None, BoundarySteps]:
+    """The colour shore along ``coarse``'s steps, and those steps."""
+    steps = boundary_steps(coarse)
+    assert steps is not None
+    return shore_along_steps(steps, coarse, colour_score(image, log_grey, COLOUR_SIGNS / (spread + np.float32(1e-9)))), steps
+
+
 def test_a_split_boundary_inside_the_water_is_moved_back_to_the_colour_step() -> None:
     for seed in range(4):
         image, log_grey, spread = turbid_shore(seed)
-        for offset_px in (-2, 0, 2):  # the split's boundary 2 px into the water, on the shore, 2 px into the land
+        for offset_px in (-4, -2, 0, 2):  # the split's boundary in the water, on the shore, in the land
             coarse = np.zeros((SIZE, SIZE), np.uint8)
             coarse[:, : STEP_COLUMN + offset_px] = 1
-            refined = refine_shore(coarse, image, log_grey, spread)
-            assert refined is not None
-            mask, score, threshold = refined
-            water_columns = mask.sum(axis=1)
-            assert np.all(np.abs(water_columns - STEP_COLUMN) <= 1), (seed, offset_px, water_columns)
-            assert abs(float(water_columns.mean()) - STEP_COLUMN) < 0.2
-            assert np.all(score[:, STEP_COLUMN - 2] > threshold) and np.all(score[:, STEP_COLUMN + 1] < threshold)
+            points, _ = shore_of(coarse, image, log_grey, spread)
+            assert points is not None and len(points) == SIZE
+            assert np.all(np.abs(points[:, 0] - STEP_COLUMN) <= 1.0), (seed, offset_px, points[:, 0])
+            assert abs(float(points[:, 0].mean()) - STEP_COLUMN) < 0.2
+            assert np.array_equal(points[:, 1], np.arange(SIZE) + 0.5)  # each point stays on its step's row
 
 
-def test_only_pixels_near_the_split_boundary_change() -> None:
+def test_each_point_stays_on_its_step_line_within_the_band() -> None:
     image, log_grey, spread = turbid_shore(7)
     coarse = np.zeros((SIZE, SIZE), np.uint8)
     coarse[:, : STEP_COLUMN - 2] = 1
-    coarse[40:44, 80:84] = 1  # a speck of "water" far out in the land: its own band is reclassified (as land)
-    refined = refine_shore(coarse, image, log_grey, spread)
-    assert refined is not None
-    mask = refined[0]
-    far = np.ones((SIZE, SIZE), bool)
-    far[:, STEP_COLUMN - 2 - BAND_PX : STEP_COLUMN - 2 + BAND_PX] = False
-    far[40 - BAND_PX : 44 + BAND_PX, 80 - BAND_PX : 84 + BAND_PX] = False
-    assert np.array_equal(mask[far], coarse[far])
-    assert not mask[40:44, 80:84].any()
+    coarse[40:44, 80:84] = 1  # a speck of "water" far out in the land: its steps are placed on their own lines
+    points, steps = shore_of(coarse, image, log_grey, spread)
+    assert points is not None and len(points) == len(steps.first_px)
+    first = steps.first_px + 0.5
+    along_x = steps.along_x
+    assert np.array_equal(points[:along_x, 1], first[:along_x, 1])
+    assert np.array_equal(points[along_x:, 0], first[along_x:, 0])
+    moved = np.concatenate([points[:along_x, 0] - first[:along_x, 0], points[along_x:, 1] - first[along_x:, 1]])
+    assert np.all(np.abs(moved) <= BAND_PX + 1.5)
 
 
-def test_no_refinement_when_colour_does_not_tell_the_sides_apart() -> None:
+def test_no_shore_when_colour_does_not_tell_the_sides_apart() -> None:
     image, _, _ = turbid_shore(3)
     image[:] = SOIL_BGR  # one colour everywhere: no step to place the shore on
     log_grey, spread = cues_of(image)
     coarse = np.zeros((SIZE, SIZE), np.uint8)
     coarse[:, :STEP_COLUMN] = 1
-    assert refine_shore(coarse, image, log_grey, spread) is None
-    assert refine_shore(np.ones((SIZE, SIZE), np.uint8), image, log_grey, spread) is None  # no land ring at all
-
+    assert shore_of(coarse, image, log_grey, spread)[0] is None
+    image, log_grey, spread = turbid_shore(3)
+    coarse[:, : SIZE - 2] = 1  # two columns of land at the frame's side: no land ring to measure its level on
+    assert shore_of(coarse, image, log_grey, spread)[0] is None
 
 
 def test_perceive_reports_the_colour_shore_where_the_grey_split_sits_in_the_water() -> None:
