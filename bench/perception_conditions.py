@@ -29,7 +29,7 @@ from mission_plan.imaging import ImagingSpec, imaging_spec
 from mission_plan.weather_presets import PRESETS
 from mock_autopilot.camera.model import CameraModel
 from mock_autopilot.camera.render import CameraPose, render_frame
-from mock_autopilot.camera.truth import ACCURACY_FLOODS, truth_reference
+from mock_autopilot.camera.truth import ACCURACY_FLOODS, median_distance_to_shore_m, truth_reference
 from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive
 
 START = "<!-- perception-conditions-table -->"
@@ -78,6 +78,8 @@ class ConditionScore:
     pooled_iou: float
     midpoint_err_m_p95: float
     midpoint_err_m_max: float
+    reported_err_m_p50: float
+    reported_err_m_p95: float
     flag_errors: int
     perceive_cpu_ms_p50: float
 
@@ -92,6 +94,7 @@ def score_condition(name: str, spec: ImagingSpec, max_tilt_deg: float, floods: l
     appearance = seeds["appearance"]
     inter = union = 0
     mid: list[float] = []
+    reported: list[float] = []
     cpu: list[float] = []
     flag_errors = 0
     for k in range(frames):
@@ -124,10 +127,16 @@ def score_condition(name: str, spec: ImagingSpec, max_tilt_deg: float, floods: l
             ref = truth_reference(camera, (position[0], position[1], agl), yaw, truth,
                                   tilt_rad=tilt)  # type: ignore[arg-type]
             mid.append(float(np.linalg.norm(result.midpoint_offset_en_m - ref.midpoint_en_m)))
+            points = result.edge_points_en_m if result.shore_points_en_m is None else result.shore_points_en_m
+            if len(points):
+                reported.append(median_distance_to_shore_m(points, ref))
     return ConditionScore(
         name=name, frames=frames, frames_with_edge=len(mid), pooled_iou=round(inter / max(union, 1), 4),
         midpoint_err_m_p95=round(float(np.percentile(mid, 95)), 3) if mid else math.nan,
-        midpoint_err_m_max=round(max(mid), 3) if mid else math.nan, flag_errors=flag_errors,
+        midpoint_err_m_max=round(max(mid), 3) if mid else math.nan,
+        reported_err_m_p50=round(float(np.percentile(reported, 50)), 3) if reported else math.nan,
+        reported_err_m_p95=round(float(np.percentile(reported, 95)), 3) if reported else math.nan,
+        flag_errors=flag_errors,
         perceive_cpu_ms_p50=round(float(np.median(cpu)) * 1e3, 3))
 
 
@@ -160,11 +169,13 @@ def time_imaging(flood_name: str, frames: int, camera: CameraModel = CameraModel
 
 
 def markdown_table(scores: list[ConditionScore]) -> str:
-    lines = ["| condition | frames (with edge) | pooled water IoU | midpoint error p95 / max [m] | wrong flags "
-             "| perceive CPU p50 [ms] |", "|---|---|---|---|---|---|"]
+    lines = ["| condition | frames (with edge) | pooled water IoU | midpoint error p95 / max [m] "
+             "| reported shore error p50 / p95 [m] | wrong flags | perceive CPU p50 [ms] |",
+             "|---|---|---|---|---|---|---|"]
     for s in scores:
         lines.append(f"| {s.name} | {s.frames} ({s.frames_with_edge}) | {s.pooled_iou:.4f} | "
-                     f"{s.midpoint_err_m_p95:.3f} / {s.midpoint_err_m_max:.3f} | {s.flag_errors} | "
+                     f"{s.midpoint_err_m_p95:.3f} / {s.midpoint_err_m_max:.3f} | "
+                     f"{s.reported_err_m_p50:.3f} / {s.reported_err_m_p95:.3f} | {s.flag_errors} | "
                      f"{s.perceive_cpu_ms_p50:.3f} |")
     return "\n".join(lines)
 
@@ -197,7 +208,8 @@ def main() -> None:
         scores.append(score_condition(name, spec, tilt, floods, args.frames, seeds))
         s = scores[-1]
         print(f"{name:20} IoU {s.pooled_iou:.4f}  midpoint p95 {s.midpoint_err_m_p95:.3f} max "
-              f"{s.midpoint_err_m_max:.3f}  edge frames {s.frames_with_edge}/{s.frames}  flags wrong "
+              f"{s.midpoint_err_m_max:.3f}  reported shore p50 {s.reported_err_m_p50:.3f} p95 "
+              f"{s.reported_err_m_p95:.3f}  edge frames {s.frames_with_edge}/{s.frames}  flags wrong "
               f"{s.flag_errors}  perceive {s.perceive_cpu_ms_p50:.3f} ms", flush=True)
     table = markdown_table(scores)
     if args.markdown:
