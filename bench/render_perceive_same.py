@@ -34,7 +34,7 @@ GEOMETRIC = ("circle", "ellipse", "nonconvex", "drift", "terrain")
 HYDRO = ("hydro", "breach", "river", "pluvial")
 RESULT_FIELDS = ("has_edge", "water_fraction", "only_land", "only_water", "footprint_side_m", "midpoint_offset_en_m",
                  "water_centroid_en_m", "land_centroid_en_m", "edge_normal_en", "edge_tangent_en", "edge_points_en_m",
-                 "water_centroid_px", "land_centroid_px", "ground_sample_m", "water_mask")
+                 "shore_points_en_m", "water_centroid_px", "land_centroid_px", "ground_sample_m", "water_mask")
 
 
 def same_value(a: Any, b: Any) -> bool:

@@ -45,7 +45,8 @@ def shore_of(coarse: np.ndarray, image: np.ndarray, log_grey: np.ndarray, spread
     """The colour shore along ``coarse``'s steps, and those steps."""
     steps = boundary_steps(coarse)
     assert steps is not None
-    return shore_along_steps(steps, coarse, colour_score(image, log_grey, COLOUR_SIGNS / (spread + np.float32(1e-9)))), steps
+    score = colour_score(image, log_grey, COLOUR_SIGNS / (spread + np.float32(1e-9)))
+    return shore_along_steps(steps, coarse, score), steps
 
 
 def test_a_split_boundary_inside_the_water_is_moved_back_to_the_colour_step() -> None:
