@@ -1,5 +1,7 @@
-"""Perception under hard imagery: pooled water IoU and midpoint error per imaging condition and for the weather
-presets' mixes, on a seed set used while developing or on a held-out one; writes docs/PERCEPTION.md's table.
+"""Perception under hard imagery: pooled water IoU, midpoint error and the reported shore's error (the points a
+drone puts on the radio: the colour shore where the grey-water cue split the frame, else the edge points) per
+imaging condition and for the weather presets' mixes, on a seed set used while developing or on a held-out one;
+writes docs/PERCEPTION.md's table.
 
     .venv/bin/python -m bench.perception_conditions [--frames 300] [--set heldout|dev] [--conditions a,b]
                                                     [--markdown FILE]
