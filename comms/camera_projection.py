@@ -44,6 +44,8 @@ def project_pixels(homography: NDArray[np.float64], x: NDArray[np.float64], y: N
     """(..., 2) ground offsets [m; east, north] of image points (x, y) [px] through ``homography``."""
     g = homography
     w = g[2, 0] * x + g[2, 1] * y + g[2, 2]
-    east = (g[0, 0] * x + g[0, 1] * y + g[0, 2]) / w
-    north = (g[1, 0] * x + g[1, 1] * y + g[1, 2]) / w
-    return np.stack([east, north], axis=-1)
+    east = g[0, 0] * x + g[0, 1] * y + g[0, 2]
+    ground = np.empty(np.shape(east) + (2,))
+    np.divide(east, w, out=ground[..., 0])
+    np.divide(g[1, 0] * x + g[1, 1] * y + g[1, 2], w, out=ground[..., 1])
+    return ground

@@ -98,14 +98,22 @@ def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] |
         return None
     sum1 = np.cumsum(hist * _LEVELS)
     square1 = np.cumsum(hist * _LEVELS_SQUARED)
-    n2, sum2, square2 = total - n1, sum1[-1] - sum1, square1[-1] - square1
-    with np.errstate(divide="ignore", invalid="ignore"):
-        var1 = square1 / n1 - (sum1 / n1) ** 2
-        var2 = square2 / n2 - (sum2 / n2) ** 2
-        cost = n1 * np.log(var1 / (n1 * n1)) + n2 * np.log(var2 / (n2 * n2))
-    cost[~((n1 > 0.002 * total) & (n2 > 0.002 * total) & (var1 > 0.5) & (var2 > 0.5))] = np.inf
+    sum1_total, square1_total = float(sum1[-1]), float(square1[-1])
+    n2 = total - n1
+    least = 0.002 * total
+    # Each class holds more than ``least`` pixels on one run of levels: n1 grows with the level, n2 shrinks.
+    first, end = n1.size - int(np.count_nonzero(n1 > least)), int(np.count_nonzero(n2 > least))
+    if first >= end:
+        return None
+    n1, n2, sum1, square1 = n1[first:end], n2[first:end], sum1[first:end], square1[first:end]
+    sum2, square2 = sum1_total - sum1, square1_total - square1
+    var1 = square1 / n1 - (sum1 / n1) ** 2
+    var2 = square2 / n2 - (sum2 / n2) ** 2
+    spread = (var1 > 0.5) & (var2 > 0.5)
+    cost = n1 * np.log(np.maximum(var1, 0.5) / (n1 * n1)) + n2 * np.log(np.maximum(var2, 0.5) / (n2 * n2))
+    cost[~spread] = np.inf
     level = int(np.argmin(cost))
-    return level if math.isfinite(cost[level]) else None
+    return first + level if math.isfinite(cost[level]) else None
 
 
 def _score8(score: NDArray[np.float32], keep: NDArray[np.uint8] | None) -> NDArray[np.uint8]:
@@ -120,9 +128,9 @@ def _texture_medians(texture8: NDArray[np.uint8], high: NDArray[np.uint8]) -> tu
     histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance)."""
     high_hist = cv2.calcHist([texture8], [0], high, [256], [0, 256]).ravel()
     all_hist = cv2.calcHist([texture8], [0], None, [256], [0, 256]).ravel()
+    high_cumulative, all_cumulative = np.cumsum(high_hist), np.cumsum(all_hist)
     medians = []
-    for hist in (high_hist, all_hist - high_hist, all_hist):
-        cumulative = np.cumsum(hist)
+    for cumulative in (high_cumulative, all_cumulative - high_cumulative, all_cumulative):
         level = int(np.searchsorted(cumulative, 0.5 * cumulative[-1])) if cumulative[-1] > 0 else 255
         medians.append(level / TEXTURE_LEVELS_PER_UNIT - TEXTURE_OFFSET)
     return medians[0], medians[1], medians[2]

@@ -172,23 +172,27 @@ def _shore_on_ground(mask: NDArray[np.bool_], score: NDArray[np.generic], thresh
     kept = main_boundary_kept(points_px, mask.shape)
     if kept is not None:
         steps, points_px = steps.subset(kept), points_px[kept]
-    edge_en = project_pixels(to_ground, points_px[:, 0], points_px[:, 1])
     shore_px = None if shore is None else shore_along_steps(steps, m8, shore.score)
-    return edge_en, None if shore_px is None else project_pixels(to_ground, shore_px[:, 0], shore_px[:, 1])
+    if shore_px is None:
+        return project_pixels(to_ground, points_px[:, 0], points_px[:, 1]), None
+    both_px = np.concatenate((points_px, shore_px))
+    both_en = project_pixels(to_ground, both_px[:, 0], both_px[:, 1])
+    return both_en[: len(points_px)], both_en[len(points_px):]
 
 
 def _water_moments(mask: NDArray[np.bool_]) -> tuple[float, float, float]:
     """(pixel count, sum of columns, sum of rows) of the water pixels: the image moments m00, m10 and m01, from the
-    per-column and per-row counts (integers, so the sums are exact, as ``cv2.moments`` gives them, at less cost)."""
+    per-column and per-row counts (whole numbers far below 2^53 in float64, so the sums are exact, as ``cv2.moments``
+    gives them, at less cost)."""
     m8 = mask.view(np.uint8)
-    columns = cv2.reduce(m8, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
-    rows = cv2.reduce(m8, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S).ravel()
+    columns = cv2.reduce(m8, 0, cv2.REDUCE_SUM, dtype=cv2.CV_64F).ravel()
+    rows = cv2.reduce(m8, 1, cv2.REDUCE_SUM, dtype=cv2.CV_64F).ravel()
     return float(columns.sum()), float(columns @ _indices(columns.size)), float(rows @ _indices(rows.size))
 
 
 @lru_cache(maxsize=8)
-def _indices(n: int) -> NDArray[np.int64]:
-    return np.arange(n, dtype=np.int64)
+def _indices(n: int) -> NDArray[np.float64]:
+    return np.arange(n, dtype=np.float64)
 
 
 def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64]) -> NDArray[np.float64] | None:
