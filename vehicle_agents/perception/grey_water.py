@@ -92,12 +92,12 @@ def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] |
     ``P1 ln(σ1² / P1²) + P2 ln(σ2² / P2²)`` for the classes ≤ t and > t (two Gaussians fitted to the histogram;
     counts instead of shares only add a constant). None when no split leaves both classes a spread."""
     hist = cv2.calcHist([score8], [0], mask, [256], [0, 256]).ravel().astype(np.float64)
-    n1 = np.cumsum(hist)
+    n1 = hist.cumsum()
     total = float(n1[-1])
     if total <= 0.0:
         return None
-    sum1 = np.cumsum(hist * _LEVELS)
-    square1 = np.cumsum(hist * _LEVELS_SQUARED)
+    sum1 = (hist * _LEVELS).cumsum()
+    square1 = (hist * _LEVELS_SQUARED).cumsum()
     sum1_total, square1_total = float(sum1[-1]), float(square1[-1])
     n2 = total - n1
     least = 0.002 * total
@@ -112,7 +112,7 @@ def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] |
     spread = (var1 > 0.5) & (var2 > 0.5)
     cost = n1 * np.log(np.maximum(var1, 0.5) / (n1 * n1)) + n2 * np.log(np.maximum(var2, 0.5) / (n2 * n2))
     cost[~spread] = np.inf
-    level = int(np.argmin(cost))
+    level = int(cost.argmin())
     return first + level if math.isfinite(cost[level]) else None
 
 
@@ -128,10 +128,10 @@ def _texture_medians(texture8: NDArray[np.uint8], high: NDArray[np.uint8]) -> tu
     histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance)."""
     high_hist = cv2.calcHist([texture8], [0], high, [256], [0, 256]).ravel()
     all_hist = cv2.calcHist([texture8], [0], None, [256], [0, 256]).ravel()
-    high_cumulative, all_cumulative = np.cumsum(high_hist), np.cumsum(all_hist)
+    high_cumulative, all_cumulative = high_hist.cumsum(), all_hist.cumsum()
     medians = []
     for cumulative in (high_cumulative, all_cumulative - high_cumulative, all_cumulative):
-        level = int(np.searchsorted(cumulative, 0.5 * cumulative[-1])) if cumulative[-1] > 0 else 255
+        level = int(cumulative.searchsorted(0.5 * cumulative[-1])) if cumulative[-1] > 0 else 255
         medians.append(level / TEXTURE_LEVELS_PER_UNIT - TEXTURE_OFFSET)
     return medians[0], medians[1], medians[2]
 

@@ -55,5 +55,5 @@ def main_boundary_kept(points_px: NDArray[np.float64], shape: tuple[int, int]) -
     at_border = (columns < LINK_PX) | (rows < LINK_PX) | (columns >= width - LINK_PX) | (rows >= height - LINK_PX)
     reaches_border = np.bincount(label_of[at_border], minlength=count) > 0
     kept = reaches_border & (sizes >= MIN_KEPT_FRACTION * sizes.max())
-    kept[int(np.argmax(sizes))] = True
+    kept[int(sizes.argmax())] = True
     return kept[label_of]
