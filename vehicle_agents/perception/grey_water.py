@@ -99,13 +99,14 @@ def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] |
     sum1 = (hist * _LEVELS).cumsum()
     square1 = (hist * _LEVELS_SQUARED).cumsum()
     sum1_total, square1_total = float(sum1[-1]), float(square1[-1])
-    n2 = total - n1
     least = 0.002 * total
-    # Each class holds more than ``least`` pixels on one run of levels: n1 grows with the level, n2 shrinks.
-    first, end = n1.size - int(np.count_nonzero(n1 > least)), int(np.count_nonzero(n2 > least))
+    # Each class holds more than ``least`` pixels on one run of levels, found by bisection: n1 grows with the level
+    # and n2 = total − n1 shrinks (the counts are whole numbers, so n2 > least exactly when n1 < total − least).
+    first, end = int(n1.searchsorted(least, "right")), int(n1.searchsorted(total - least, "left"))
     if first >= end:
         return None
-    n1, n2, sum1, square1 = n1[first:end], n2[first:end], sum1[first:end], square1[first:end]
+    n1, sum1, square1 = n1[first:end], sum1[first:end], square1[first:end]
+    n2 = total - n1
     sum2, square2 = sum1_total - sum1, square1_total - square1
     var1 = square1 / n1 - (sum1 / n1) ** 2
     var2 = square2 / n2 - (sum2 / n2) ** 2

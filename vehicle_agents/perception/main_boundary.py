@@ -56,4 +56,6 @@ def main_boundary_kept(points_px: NDArray[np.float64], shape: tuple[int, int]) -
     reaches_border = np.bincount(label_of[at_border], minlength=count) > 0
     kept = reaches_border & (sizes >= MIN_KEPT_FRACTION * sizes.max())
     kept[int(sizes.argmax())] = True
+    if kept[1:].all():  # label 0 is the unmarked background
+        return None
     return kept[label_of]
