@@ -186,10 +186,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     code = asyncio.run(_run(agent))
     stats = agent.stats
     logging.getLogger("vehicle_agents").info(
-        "vehicle %d exits with %d: %d control steps (%.1f Hz mission time), %d overruns, %d frames processed, "
-        "%d frames missed; dropped for their tag: %d commands, %d states; relayed copies refused: %d",
+        "vehicle %d exits with %d: %d control steps (%.1f Hz mission time), %d overruns, %d frames processed "
+        "(perception %.2f / %.2f ms CPU per frame, p50 / p95), %d frames missed; dropped for their tag: %d commands, "
+        "%d states; relayed copies refused: %d",
         config.vehicle_id, code, stats.control_steps, stats.control_rate_hz(), stats.overruns, stats.frames_processed,
-        stats.frames_dropped, swarm.command_verifier.dropped_total(),
+        *stats.perception_cpu_ms(), stats.frames_dropped, swarm.command_verifier.dropped_total(),
         0 if swarm.link.verifier is None else swarm.link.verifier.dropped_total(), sum(agent.state.refused_copies))
     return code
 

@@ -94,6 +94,8 @@ class AgentStats:
     overruns: int = 0
     frames_processed: int = 0
     frames_dropped: int = 0
+    perception_cpu_s: list[float] = field(default_factory=list)
+    """Thread CPU time of each frame's perception [s]: the onboard vision's cost, as a companion computer pays it."""
     step_wall_s: list[float] = field(default_factory=list)
     mission_start_t_s: float | None = None
     mission_end_t_s: float | None = None
@@ -104,6 +106,13 @@ class AgentStats:
             return float("nan")
         span_s = self.mission_end_t_s - self.mission_start_t_s
         return self.control_steps / span_s if span_s > 0 else float("nan")
+
+    def perception_cpu_ms(self) -> tuple[float, float]:
+        """(p50, p95) of the perception's CPU time per frame [ms]; NaN before the first frame."""
+        if not self.perception_cpu_s:
+            return float("nan"), float("nan")
+        p50, p95 = np.percentile(self.perception_cpu_s, (50.0, 95.0))
+        return 1e3 * float(p50), 1e3 * float(p95)
 
 
 def decode_image(frame: CameraFrame) -> np.ndarray | None:
@@ -342,6 +351,8 @@ class Agent:
         # camera without a gimbal knows only its vehicle's estimate. Metres per pixel come from the downward
         # rangefinder's reading (DISTANCE_SENSOR), which over relief is not the altitude above home.
         attitude = self.link.telemetry
+        start_cpu_s = time.thread_time()
         self._perception = perceive(image, perception_height_m(attitude, frame), frame.fov_deg, attitude.yaw_ned_rad,
                                     roll_rad=attitude.roll_rad, pitch_rad=attitude.pitch_rad)
+        self.stats.perception_cpu_s.append(time.thread_time() - start_cpu_s)
         self.stats.frames_processed += 1
