@@ -26,8 +26,8 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from dataclasses import dataclass, replace
 from collections.abc import Iterator
+from dataclasses import dataclass, replace
 from typing import Any
 
 import cv2
@@ -37,7 +37,7 @@ from bench.camera_perception import flood_named, height_m, machine, poses
 from mission_plan.imaging import ImagingSpec, imaging_spec
 from mission_plan.weather_presets import PRESETS
 from mock_autopilot.camera.model import CameraModel
-from mock_autopilot.camera.render import CameraPose, render_frame
+from mock_autopilot.camera.render import CameraPose, RenderedFrame, render_frame
 from mock_autopilot.camera.truth import ACCURACY_FLOODS, median_distance_to_shore_m, truth_reference
 from vehicle_agents.perception.result import PerceptionResult
 from vehicle_agents.perception.segmentation import MIN_CLASS_FRACTION, perceive
@@ -101,8 +101,9 @@ class ConditionScore:
 class Case:
     """One pose's frame and what perception is told with it."""
 
-    frame: Any
+    frame: RenderedFrame
     position_enu_m: Any
+    """As the pose plan gives it (east, north, up [m])."""
     height_m: float
     yaw_rad: float
     tilt_rad: tuple[float, float]
@@ -116,8 +117,9 @@ def _cases(spec: ImagingSpec, max_tilt_deg: float, built: dict[str, Any], frames
     per_flood = {f: poses(built[f], frames, altitude_m, seed=seeds["pose"] + i) for i, f in enumerate(floods)}
     appearance = seeds["appearance"]
     for k in range(frames):
-        flood = built[floods[k % len(floods)]]
-        t_s, position, yaw = per_flood[floods[k % len(floods)]][k]
+        flood_name = floods[k % len(floods)]
+        flood = built[flood_name]
+        t_s, position, yaw = per_flood[flood_name][k]
         seed = appearance[k * len(appearance) // frames]
         speed, heading = rng.uniform(0.0, 5.0), rng.uniform(-math.pi, math.pi)
         roll, pitch = (math.radians(float(v)) for v in rng.uniform(-max_tilt_deg, max_tilt_deg, 2))

@@ -1,6 +1,5 @@
-from pathlib import Path
-
 import math
+from pathlib import Path
 
 from gcs.processes.agent_exit_report import agent_refused_copies, perception_cpu_in_log, refused_copies_in_log
 
