@@ -45,6 +45,7 @@ from gcs.processes.intrusion_watch import IntrusionWatch
 from gcs.processes.host_capacity import host_warning
 from gcs.processes.launch import ProcessOptions, hub_config
 from gcs.processes.live_view import LiveOutput, station_snapshot
+from gcs.processes.lost_vehicles import LostVehicles
 from gcs.processes.mavlink_watch import MavlinkWatcher
 from gcs.processes.mission_children import ChildFailed, MissionChildren, StartupProgress
 from gcs.processes.mission_phase import MissionPhase, PhaseFailure, PhaseObservation, PhaseState, next_phase
@@ -91,7 +92,7 @@ class GroundStation:
         self.flood_clock_start_s: float | None = None
         self.states: dict[int, NeighbourState] = {}
         self.agent_alive: dict[int, bool] = {}
-        self.lost: dict[int, float] = {}
+        self.losses = LostVehicles()
         leader_id = next((v.vehicle_id for v in scenario.vehicles if v.role == Role.LEADER and v.has_gps), None)
         self.polygon = PolygonPublisher(self.keys, self.mission, scenario.home, scenario.control_params(options.mode).ring_order(),
                                         leader_id, scenario.control_rate_hz, self.recorder.polygons)
@@ -342,7 +343,7 @@ class GroundStation:
             if self.agent_alive.get(vid):
                 self.agent_alive[vid] = False
                 self.events(f"agent {vid} lost: its liveliness token is gone")
-                self._mark_lost(vid)
+                self.losses.agent_gone(vid, self.flood_time_s())
 
     def _check_children(self) -> None:
         if self.children is None:
@@ -351,7 +352,7 @@ class GroundStation:
             if self.phase in (MissionPhase.STARTING, MissionPhase.TAKEOFF):
                 raise MissionFailed(f"agent {vid} failed to start (exit code {code}): {child.log_tail(2)}")
             self.events(f"agent {vid} exited with code {code}")
-            self._mark_lost(vid)
+            self.losses.agent_gone(vid, self.flood_time_s())
 
     def _check_vehicles(self, watcher: MavlinkWatcher, now_wall_s: float) -> None:
         if not self.phase.in_flight:
@@ -364,13 +365,16 @@ class GroundStation:
         for vid, silent, lost_after_s in changes:
             if silent:
                 self.events(f"vehicle {vid} lost: no heartbeat on the GCS link for {lost_after_s:g} s")
-                self._mark_lost(vid)
+                self.losses.link_silent(vid, self.flood_time_s())
+            elif self.losses.link_back(vid):
+                self.events(f"vehicle {vid}: heartbeat back on the GCS link, counted again")
             else:
                 self.events(f"vehicle {vid}: heartbeat back on the GCS link")
 
-    def _mark_lost(self, vid: int) -> None:
-        if vid not in self.lost:
-            self.lost[vid] = self.flood_time_s()
+    @property
+    def lost(self) -> dict[int, float]:
+        """The vehicles lost now, each with the flood time it was lost at (:class:`LostVehicles`)."""
+        return self.losses.since_flood_s
 
     def _everyone_up(self, watcher: MavlinkWatcher) -> bool:
         heard = everyone_heard(self.vehicle_ids, watcher.vehicles)
