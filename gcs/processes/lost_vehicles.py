@@ -4,8 +4,8 @@ A vehicle is lost when its heartbeat stops on the GCS link or when its agent is 
 or its process exited). The two differ in what comes after: an agent that is gone does not come back (the process
 has nothing left to fly), while a silent link can return, as QGroundControl sees a vehicle reappear when its
 heartbeat does. A host stalled for a second under 208 agents silences a dozen links at once and every one is back
-within a fraction of a second; counting those vehicles lost for the rest of the run dropped them from the caged
-polygon's feed and from the coverage metric although they flew on. So a vehicle lost only to link silence counts
+within a fraction of a second; counted lost for the rest of the run, those vehicles would leave the caged polygon's
+feed and score no coverage while they fly on. So a vehicle lost only to link silence counts
 again once its heartbeat returns; the loss itself stays in the events log and in the record (its alive flag went
 False, then True again). Pure bookkeeping: the shell (:mod:`gcs.processes.ground_station`) feeds it the events.
 """
