@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from comms.radio_model import squared_distances
 from mission_plan.scenario_files import load_scenario
 
 
@@ -14,7 +15,7 @@ from mission_plan.scenario_files import load_scenario
 def test_large_pads_keep_the_barrier_minimum_after_the_jitter(seed: int) -> None:
     scenario = load_scenario("large", [f"seed={seed}"])
     pads_en_m = np.array([v.pad_enu_m[:2] for v in scenario.vehicles])
-    gaps_m = np.hypot(*(pads_en_m[:, None, :] - pads_en_m[None, :, :]).transpose(2, 0, 1))
+    gaps_m = np.sqrt(squared_distances(pads_en_m, pads_en_m))
     np.fill_diagonal(gaps_m, np.inf)
     assert len(pads_en_m) == 208
     assert gaps_m.min() >= scenario.control_params("improved").safety_min_distance_m
