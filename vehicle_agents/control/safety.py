@@ -189,12 +189,6 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
     1.3 m (0.82 m apart under bursty radio loss, seed 2). A gap of half the minimum is a collision to avoid;
     the full minimum is room to keep; so the collision floor wins.
 
-    Among those it keeps clear of, the ones with a higher right of way have the word after its peers: a peer closing
-    from behind inside the minimum demands that this drone flee, and the nearest constraint would otherwise win even
-    when fleeing runs into the leader or a boundary drone (``large``, lockstep: followers streaming to the centre
-    pushed the front one into the stationary leader at 3 m/s, 0.94 m apart). The peer, who yields too, brakes for
-    this drone; the leader, who does not, would not. A command that already keeps clear of them passes unchanged.
-
     Neighbours are at ``heard_en_m`` when given (:func:`sensed_positions_en_m`), else where their last message,
     carried forward by its age, puts them; the barrier counts on PX4's
     braking (``safety_braking_mps2`` after ``safety_reaction_s``) and so looks as far out as a drone at twice the
@@ -216,17 +210,10 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
                           params.safety_closing_rate_per_s, braking_mps2=brake, reaction_s=reaction)
     if obstacles:
         others_v = np.array([n.velocity_en_mps for n in obstacles], dtype=float).reshape(-1, 2)
-        obstacles_en_m = heard_en_m[~yields]
-        radius_m = max(params.safety_radius_m,
-                       braking_horizon_m(params.safety_min_distance_m, horizon_speed_mps, brake, reaction))
-        v = safety_filter(v, own_en_m, obstacles_en_m, params.safety_min_distance_m, radius_m,
+        v = safety_filter(v, own_en_m, heard_en_m[~yields], params.safety_min_distance_m,
+                          max(params.safety_radius_m,
+                              braking_horizon_m(params.safety_min_distance_m, horizon_speed_mps, brake, reaction)),
                           params.safety_closing_rate_per_s, others_v, braking_mps2=brake, reaction_s=reaction)
-        rank = RIGHT_OF_WAY.get(role, 2)
-        senior = np.array([RIGHT_OF_WAY.get(n.role, 2) < rank for n in obstacles], dtype=bool)
-        if senior.any() and not senior.all():
-            v = safety_filter(v, own_en_m, obstacles_en_m[senior], params.safety_min_distance_m, radius_m,
-                              params.safety_closing_rate_per_s, others_v[senior], braking_mps2=brake,
-                              reaction_s=reaction)
         if yields.any():
             v = safety_filter(v, own_en_m, heard_en_m, last_resort_m, last_resort_radius_m,
                               params.safety_closing_rate_per_s, braking_mps2=brake, reaction_s=reaction)
