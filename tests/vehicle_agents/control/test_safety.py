@@ -106,3 +106,26 @@ def test_the_barrier_leaves_a_command_clear_of_everyone_unchanged() -> None:
              NeighbourInfo(11, "follower", np.array([0.0, 9.0]), np.zeros(2), 10.0)]
     command = np.array([0.5, -0.3])
     assert np.array_equal(collision_barrier("leader", command, np.zeros(2), heard, params), command)
+
+
+def test_a_follower_pushed_by_a_peer_does_not_run_into_the_leader() -> None:
+    """A follower 3.4 m behind the stationary leader, a peer 2.1 m behind it closing at 3 m/s (inside the 3 m
+    minimum): fleeing the peer would close on the leader; the leader's constraint has the last word."""
+    params = ControlParams(mode="improved", safety_min_distance_m=3.0)
+    leader = NeighbourInfo(33, "leader", np.array([3.4, 0.0]), np.zeros(2), 10.0)
+    peer = NeighbourInfo(63, "follower", np.array([-2.1, 0.0]), np.array([3.0, 0.0]), 10.0)
+    v = collision_barrier("follower", np.array([3.9, 0.0]), np.zeros(2), [leader, peer], params)
+    gap_m = 3.4 - params.safety_min_distance_m
+    assert v[0] <= params.safety_closing_rate_per_s * gap_m + 1e-9
+    alone = collision_barrier("follower", np.array([3.9, 0.0]), np.zeros(2), [peer], params)
+    assert alone[0] >= 3.0  # without the leader the follower does flee the peer
+
+
+def test_boxed_in_between_the_leader_and_a_peer_a_follower_closes_on_neither() -> None:
+    """The leader 2.0 m west (inside the 3 m minimum: move east), a peer 1.0 m east closing at 3 m/s. Fleeing the
+    peer runs into the leader and leaving the leader's minimum runs into the peer: the follower holds."""
+    params = ControlParams(mode="improved", safety_min_distance_m=3.0)
+    leader = NeighbourInfo(33, "leader", np.array([-2.0, 0.0]), np.zeros(2), 10.0)
+    peer = NeighbourInfo(63, "follower", np.array([1.0, 0.0]), np.array([-3.0, 0.0]), 10.0)
+    v = collision_barrier("follower", np.array([-1.0, 0.5]), np.zeros(2), [leader, peer], params)
+    assert abs(v[0]) <= 1e-9
