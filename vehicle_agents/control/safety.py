@@ -197,7 +197,7 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
     Boxed in, a follower does not flee other followers: they keep clear of it too, so their approach is theirs to
     stop, while fleeing one inside a crowd runs into another or into the leader, who does not give way to followers
     (:func:`safety_filter`'s ``others_give_way``). Boundary drones still flee each other: the two groups' leading
-    drones meet head on, and without it a `circle` ring under ``moderate`` weather failed (seed 11, IoU 0.006).
+    drones meet head on, and without it a ``circle`` ring under ``moderate`` weather failed (seed 11, IoU 0.006).
 
     Neighbours are at ``heard_en_m`` when given (:func:`sensed_positions_en_m`), else where their last message,
     carried forward by its age, puts them; the barrier counts on PX4's

@@ -110,7 +110,7 @@ def test_the_barrier_leaves_a_command_clear_of_everyone_unchanged() -> None:
 
 def test_a_follower_pushed_by_a_peer_does_not_run_into_the_leader() -> None:
     """A follower 3.4 m behind the stationary leader, a peer 2.1 m behind it closing at 3 m/s (inside the 3 m
-    minimum): fleeing the peer would close on the leader; the leader's constraint has the last word."""
+    minimum): the follower does not flee the peer into the leader."""
     params = ControlParams(mode="improved", safety_min_distance_m=3.0)
     leader = NeighbourInfo(33, "leader", np.array([3.4, 0.0]), np.zeros(2), 10.0)
     peer = NeighbourInfo(63, "follower", np.array([-2.1, 0.0]), np.array([3.0, 0.0]), 10.0)
