@@ -223,11 +223,12 @@ def collision_barrier(role: str, velocity_en_mps: NDArray[np.float64], own_en_m:
         obstacles_en_m = heard_en_m[~yields]
         radius_m = max(params.safety_radius_m,
                        braking_horizon_m(params.safety_min_distance_m, horizon_speed_mps, brake, reaction))
-        rank = RIGHT_OF_WAY.get(role, 2)
-        peers = np.array([RIGHT_OF_WAY.get(n.role, 2) == rank for n in obstacles], dtype=bool)
+        follower_rank = RIGHT_OF_WAY[ROLE_FOLLOWER]
+        other_followers = (np.array([RIGHT_OF_WAY.get(n.role, 2) == follower_rank for n in obstacles], dtype=bool)
+                           if role == ROLE_FOLLOWER else None)
         v = safety_filter(v, own_en_m, obstacles_en_m, params.safety_min_distance_m, radius_m,
                           params.safety_closing_rate_per_s, others_v, braking_mps2=brake, reaction_s=reaction,
-                          others_give_way=peers if role == ROLE_FOLLOWER else None)
+                          others_give_way=other_followers)
         if yields.any():
             v = safety_filter(v, own_en_m, heard_en_m, last_resort_m, last_resort_radius_m,
                               params.safety_closing_rate_per_s, braking_mps2=brake, reaction_s=reaction)
