@@ -14,6 +14,8 @@ Usage::
 
     python bench/agent_main_thread.py                     # this checkout
     python bench/agent_main_thread.py --tree /tmp/before  # another checkout (e.g. ``git archive REV | tar -x``)
+    python bench/agent_main_thread.py --without-relay     # the same bytes, relaying and not, alternated
+    python bench/agent_main_thread.py --evict-mib 64      # every tick with cold data caches
 """
 
 from __future__ import annotations
@@ -66,8 +68,15 @@ def capture(vehicle_id: int, duration_s: float) -> dict[str, object]:
             "ticks": ticks}
 
 
-def replay(recorded: dict[str, object], repeat: int) -> tuple[dict[str, float], str]:
-    """Best CPU time per tick of each stage [ms] over ``repeat`` replays, and a digest of the outputs."""
+def replay(recorded: dict[str, object], repeat: int, evict_mib: int = 0) -> tuple[dict[str, float], str]:
+    """Best CPU time per tick of each stage [ms] over ``repeat`` replays, and a digest of the outputs.
+
+    ``evict_mib``: before each tick (outside the timed stages) stream through that many MiB, so every tick starts
+    with the data caches holding something else, as an agent's tick does after ~40 other processes ran on its core.
+    """
+    import numpy as np  # noqa: PLC0415
+
+    evicting = np.zeros(evict_mib * (1 << 20) // 8)
     from comms.keys import MissionKeys  # noqa: PLC0415
     from comms.messages import CameraFrame, MissionCommand, RadioBundle, encode  # noqa: PLC0415
     from comms.swarm_link import bundle_unpacker  # noqa: PLC0415
@@ -114,6 +123,8 @@ def replay(recorded: dict[str, object], repeat: int) -> tuple[dict[str, float], 
         clock = time.thread_time
         for seq, (tick, (bundle, frame)) in enumerate(zip(recorded["ticks"], wire)):  # type: ignore[arg-type]
             replay_now_us[0] = signed_from_us + seq
+            if evicting.size:
+                evicting += 1.0
             t0 = clock()
             if bundle is not None:
                 inbox_buffer.put_many(unpack(keys.inbox(vid), bundle))
@@ -246,6 +257,12 @@ def main() -> int:
     p.add_argument("--duration", type=float, default=40.0, help="mission seconds of the lockstep capture")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--capture", type=Path, default=None, help="pickle of a capture to reuse (written if missing)")
+    p.add_argument("--without-relay", action="store_true",
+                   help="also replay the same bytes as a drone that does not relay (relay_max_hops = 0: states "
+                        "decoded for control only, no copies filed), alternating with the relaying one: the relay's "
+                        "share of the main thread")
+    p.add_argument("--evict-mib", type=int, default=0, metavar="MIB",
+                   help="stream through MIB MiB before each tick (untimed): the replay with cold data caches")
     args = p.parse_args()
     sys.path.insert(0, str(args.tree.resolve()))
     if args.capture is not None and args.capture.exists():
@@ -254,12 +271,17 @@ def main() -> int:
         recorded = capture(args.vehicle, args.duration)
         if args.capture is not None:
             args.capture.write_bytes(pickle.dumps(recorded))
-    best, digest = replay(recorded, args.repeat)
     states = sum(len(t["states"]) for t in recorded["ticks"]) / len(recorded["ticks"])  # type: ignore[attr-defined]
-    print(f"{args.tree}: {len(recorded['ticks'])} ticks, {states:.1f} neighbour states per tick, "  # type: ignore[arg-type]
-          f"outputs digest {digest}")
-    print(" | ".join(f"{stage} {best[stage]:.3f}" for stage in STAGES)
-          + f" | main thread total {sum(best.values()):.3f} ms per tick")
+    cases = [("relaying", recorded)]
+    if args.without_relay:
+        cases.append(("not relaying", {**recorded, "params": dataclasses.replace(recorded["params"], relay_max_hops=0)}))
+    for _ in range(args.repeat if args.without_relay else 1):
+        for name, case in cases:
+            best, digest = replay(case, 1 if args.without_relay else args.repeat, args.evict_mib)
+            print(f"{args.tree}: {name}, {len(recorded['ticks'])} ticks, {states:.1f} neighbour states per tick, "  # type: ignore[arg-type]
+                  f"outputs digest {digest}")
+            print(" | ".join(f"{stage} {best[stage]:.3f}" for stage in STAGES)
+                  + f" | main thread total {sum(best.values()):.3f} ms per tick", flush=True)
     return 0
 
 

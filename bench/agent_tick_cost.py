@@ -22,6 +22,7 @@ Usage (one mission, per-thread table)::
     python bench/agent_tick_cost.py --duration 30                       # circle, 13 vehicles, 20 Hz, paced clock
     python bench/agent_tick_cost.py --duration 30 --clock free          # the agents' own wall-clock loop
     python bench/agent_tick_cost.py --duration 30 --set control_rate_hz=10
+    python bench/agent_tick_cost.py --duration 20 --pin-agents-after-s 7    # each agent kept on one CPU
     python bench/agent_tick_cost.py --mavsdk-streams                    # MAVSDK's cost per telemetry profile
 
 ``--mavsdk-streams`` isolates MAVSDK: one mock PX4 (a child process) streaming the mock's reduced profile or PX4's
@@ -37,6 +38,7 @@ import os
 import re
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -268,6 +270,35 @@ def mavsdk_stream_cost(profile: str, request_rates: bool, seconds: float = 15.0,
         fleet.wait(10)
 
 
+def agent_pids() -> list[int]:
+    """The pids of this machine's agent processes (``python -m vehicle_agents``), by their command lines."""
+    pids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                argv = Path(f"/proc/{entry}/cmdline").read_bytes().split(b"\0")
+            except OSError:
+                continue
+            if b"vehicle_agents" in argv:
+                pids.append(int(entry))
+    return sorted(pids)
+
+
+def pin_agents_later(delay_s: float) -> None:
+    """After ``delay_s``, pin each agent's threads to one CPU (agent k to the k-th CPU, modulo their number)."""
+    time.sleep(delay_s)
+    cpus = sorted(os.sched_getaffinity(0))
+    pinned = 0
+    for k, pid in enumerate(agent_pids()):
+        try:
+            for tid in os.listdir(f"/proc/{pid}/task"):
+                os.sched_setaffinity(int(tid), {cpus[k % len(cpus)]})
+            pinned += 1
+        except OSError:
+            continue
+    print(f"pinned {pinned} agent processes over CPUs {cpus}", file=sys.stderr, flush=True)
+
+
 def main() -> int:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -283,6 +314,9 @@ def main() -> int:
     p.add_argument("--out", type=Path, default=Path("runs/bench-agent-tick"))
     p.add_argument("--mavsdk-streams", action="store_true", help="MAVSDK's own cost per telemetry profile instead")
     p.add_argument("--repeat", type=int, default=2, help="with --mavsdk-streams: runs per case")
+    p.add_argument("--pin-agents-after-s", type=float, default=None, metavar="S",
+                   help="S wall seconds after the start, pin every agent process (all its threads) to one CPU, "
+                        "alternating over the CPUs: whether keeping an agent on one core's caches makes it cheaper")
     args = p.parse_args()
     if args.mavsdk_streams:
         print("| mock stream profile | link requests rates | MAVSDK process CPU ms/s | wake-ups /s |")
@@ -296,6 +330,8 @@ def main() -> int:
                       f"{' / '.join(f'{w:.0f}' for w in wake)} |", flush=True)
         return 0
     from bench.mission_processes import run_once  # noqa: PLC0415 - heavy (the ground station) and CLI-only
+    if args.pin_agents_after_s is not None:
+        threading.Thread(target=pin_agents_later, args=(args.pin_agents_after_s,), daemon=True).start()
     row = run_once(args.scenario, tuple(args.overrides), args.speed, args.duration, args.out, args.mode,
                    gdb_labels=args.gdb, clock=args.clock)
     print(json.dumps(row), flush=True)
