@@ -15,10 +15,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 
-_NEIGHBOUR = np.array([[0, 1]], np.int32)
-"""Flat offsets of a row step's two pixels (a column step's second pixel is one row further)."""
-
-
 @dataclass(frozen=True)
 class BoundarySteps:
     """A mask's steps: ``first_px`` (K, 2) the (x, y) of each pair's first pixel (left or upper); the first
@@ -50,10 +46,12 @@ def step_points_px(steps: BoundarySteps, score: NDArray[np.generic], threshold: 
     xy = steps.first_px
     along_x = steps.along_x
     width = score.shape[1]
-    pair = xy @ np.array([1, width], np.int32)
-    pair = pair[:, None] + _NEIGHBOUR
-    pair[along_x:, 1] += width - 1
-    a, b = score.reshape(-1)[pair].astype(np.float32).T
+    flat = score.reshape(-1)
+    index = xy[:, 1] * width + xy[:, 0]
+    a = flat[index].astype(np.float32)
+    index[:along_x] += 1
+    index[along_x:] += width
+    b = flat[index].astype(np.float32)
     frac = np.divide(threshold - a, b - a, out=np.full_like(a, 0.5), where=b != a)
     np.maximum(frac, 0.25, out=frac)
     np.minimum(frac, 0.75, out=frac)

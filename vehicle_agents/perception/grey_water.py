@@ -73,8 +73,9 @@ def cue_stack(smooth: NDArray[np.uint8], grey8: NDArray[np.uint8]) -> NDArray[np
     pixels of the frame)."""
     log_envelope = cv2.LUT(cv2.min(grey8, cv2.medianBlur(grey8, 3)), _LOG_TABLE)
     mean = cv2.blur(log_envelope, (3, 3))
-    square = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
-    texture = cv2.log(cv2.max(cv2.subtract(square, cv2.multiply(mean, mean)), 1e-6))
+    texture = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
+    cv2.subtract(texture, cv2.multiply(mean, mean, dst=mean), dst=texture)
+    cv2.log(cv2.max(texture, 1e-6, dst=texture), dst=texture)
     half = (smooth.shape[1] // 2, smooth.shape[0] // 2)
     small = cv2.resize(smooth, half, interpolation=cv2.INTER_AREA)
     small_float = small.astype(np.float32)

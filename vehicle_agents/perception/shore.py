@@ -68,11 +68,15 @@ def colour_score(smooth_bgr: NDArray[np.uint8], log_grey: NDArray[np.float32], w
     brightness ``log_grey``: the grey-water cues without the texture, summed in one pass per term."""
     as_float = smooth_bgr.astype(np.float32)
     blue, green, red = cv2.split(smooth_bgr)
-    spread = cv2.subtract(cv2.max(cv2.max(blue, green), red), cv2.min(cv2.min(blue, green), red))
-    numerator = cv2.transform(as_float, np.array([[weights[0], 0.0, 0.0, 3.0 * weights[0]]], np.float32))
-    numerator = cv2.scaleAdd(spread.astype(np.float32), float(weights[1]), numerator)
-    ratio = cv2.divide(numerator, cv2.transform(as_float, _SUM_ROW))
-    return cv2.scaleAdd(log_grey, float(weights[2]), ratio)
+    high = cv2.max(blue, green)
+    low = cv2.min(blue, green)
+    cv2.max(high, red, dst=high)
+    cv2.min(low, red, dst=low)
+    spread = cv2.subtract(high, low, dst=high).astype(np.float32)
+    score = cv2.transform(as_float, np.array([[weights[0], 0.0, 0.0, 3.0 * weights[0]]], np.float32))
+    cv2.scaleAdd(spread, float(weights[1]), score, dst=score)
+    cv2.divide(score, cv2.transform(as_float, _SUM_ROW), dst=score)
+    return cv2.scaleAdd(log_grey, float(weights[2]), score, dst=score)
 
 
 def shore_along_steps(steps: BoundarySteps, water: NDArray[np.uint8], score: NDArray[np.float32]
