@@ -128,11 +128,14 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     n = h * w
     n_water, sum_x, sum_y = _water_moments(mask)
     # Pixel-centre moments (x = column + 0.5, y = row + 0.5); the whole image's are known in closed form.
-    water_px = np.array([sum_x / n_water + 0.5, sum_y / n_water + 0.5])
-    land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
+    water_x, water_y = sum_x / n_water + 0.5, sum_y / n_water + 0.5
+    water_px = np.array([water_x, water_y])
+    land_px = np.array([(n * w / 2.0 - water_x * n_water) / (n - n_water),
+                        (n * h / 2.0 - water_y * n_water) / (n - n_water)])
     water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px, n_water)
     edge_en, shore_en = _shore_on_ground(mask, score, threshold, to_ground, shore)
-    normal = _edge_normal(edge_en, land_en - water_en)
+    (water_e, water_n), (land_e, land_n) = water_en.tolist(), land_en.tolist()
+    normal = _edge_normal(edge_en, land_e - water_e, land_n - water_n)
     if normal is None:
         return PerceptionResult.no_measurement(footprint_m)
     tangent = np.array([-normal[1], normal[0]])
@@ -143,7 +146,7 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
         only_land=False,
         only_water=False,
         footprint_side_m=footprint_m,
-        midpoint_offset_en_m=0.5 * (water_en + land_en),
+        midpoint_offset_en_m=np.array([0.5 * (water_e + land_e), 0.5 * (water_n + land_n)]),
         water_centroid_en_m=water_en,
         land_centroid_en_m=land_en,
         edge_normal_en=normal,
@@ -195,20 +198,25 @@ def _indices(n: int) -> NDArray[np.int64]:
     return np.arange(n, dtype=np.int64)
 
 
-def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64]) -> NDArray[np.float64] | None:
+def _edge_normal(edge_en: NDArray[np.float64], to_land_e: float, to_land_n: float) -> NDArray[np.float64] | None:
     """Unit normal of the edge, from water to land: across the principal axis of the edge points (closed form for
-    2x2), turned towards the land centroid; the centroid line itself when there are too few points."""
-    normal = water_to_land
+    2x2), turned towards the land centroid (``to_land_e``, ``to_land_n``: water to land centroid [m]); the
+    centroid line itself when there are too few points. The two-element vectors are plain floats (an array
+    operation costs more than the arithmetic)."""
+    normal_e, normal_n = to_land_e, to_land_n
     if edge_en.shape[0] >= 2:
         d = edge_en - np.add.reduce(edge_en, axis=0) / edge_en.shape[0]  # the mean, without np.mean's wrapper
         sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
         axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
-        pca_normal = np.array([-math.sin(axis), math.cos(axis)])
-        normal = pca_normal if float(pca_normal @ normal) >= 0.0 else -pca_normal
-    length = math.hypot(float(normal[0]), float(normal[1]))
+        pca_e, pca_n = -math.sin(axis), math.cos(axis)
+        if pca_e * normal_e + pca_n * normal_n >= 0.0:
+            normal_e, normal_n = pca_e, pca_n
+        else:
+            normal_e, normal_n = -pca_e, -pca_n
+    length = math.hypot(normal_e, normal_n)
     if length <= 0.0 or not math.isfinite(length):
         return None
-    return normal / length
+    return np.array([normal_e / length, normal_n / length])
 
 
 def _along_the_edge(edge_en: NDArray[np.float64], tangent: NDArray[np.float64], max_points: int
