@@ -34,7 +34,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from vehicle_agents.perception.shore import COLOUR_SIGNS, colour_score
+from vehicle_agents.perception.shore import colour_score
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -52,6 +52,8 @@ GLINT_ROUNDS = 2
 """How many times a rougher high class is taken as glint on water and the rest split again."""
 SCORE_SIGNS = np.array([1.0, -1.0, -1.0, 1.0], np.float32)
 """Signs of the standardised chromaticity, saturation, texture and brightness in the water score."""
+_COLOUR_CUES = np.array([0, 1, 3])
+"""The cues the colour score weighs (chromaticity, saturation, brightness), in the order of ``COLOUR_SIGNS``."""
 TEXTURE_LEVELS_PER_UNIT = 16.0
 TEXTURE_OFFSET = 16.0
 """Texture to 8 bits for its histograms: ``(log variance + 16) · 16`` (log variances -16..0; flat ground is near
@@ -143,12 +145,14 @@ def _texture_medians(texture8: NDArray[np.uint8], high: NDArray[np.uint8]) -> tu
     return medians[0], medians[1], medians[2]
 
 
-def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[NDArray[np.uint8], int | None]:
-    """(8-bit score, threshold or None): the minimum-error split, with glint taken out of it. A high class rougher
-    than the low one is glint; the score is stretched again over the rest (so the glint saturates at 255 and stays
-    on the water side) and split again."""
+def _split(score: NDArray[np.float32], texture: NDArray[np.float32]
+           ) -> tuple[NDArray[np.uint8], int | None, NDArray[np.uint8] | None]:
+    """(8-bit score, threshold or None, its high class or None when not formed): the minimum-error split, with glint
+    taken out of it. A high class rougher than the low one is glint; the score is stretched again over the rest (so
+    the glint saturates at 255 and stays on the water side) and split again."""
     score8 = _score8(score, None)
     threshold = minimum_error_threshold(score8)
+    high = None
     for _ in range(GLINT_ROUNDS):
         if threshold is None:
             break
@@ -163,8 +167,8 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
         found = minimum_error_threshold(stretched, low)
         if found is None:
             break
-        score8, threshold = stretched, found
-    return score8, threshold
+        score8, threshold, high = stretched, found, None
+    return score8, threshold, high
 
 
 @dataclass(frozen=True)
@@ -192,10 +196,11 @@ def grey_water_with_shore(image_bgr: NDArray[np.uint8]
     matrix[0, 4] = -float(weights @ mean.ravel().astype(np.float32))
     score = cv2.transform(cues, matrix)
     texture = np.ascontiguousarray(cues[..., 2])
-    score8, threshold = _split(score, texture)
+    score8, threshold, high = _split(score, texture)
     texture8 = cv2.convertScaleAbs(texture, alpha=TEXTURE_LEVELS_PER_UNIT, beta=TEXTURE_OFFSET * TEXTURE_LEVELS_PER_UNIT)
     full = cv2.resize(score8, (image_bgr.shape[1], image_bgr.shape[0]), interpolation=cv2.INTER_LINEAR)
-    high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
+    if high is None:
+        high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
     water_tex, land_tex, frame_tex = _texture_medians(texture8, high)
     if threshold is not None:
         water = _open_close(cv2.threshold(full, threshold, 1, cv2.THRESH_BINARY)[1])
@@ -203,7 +208,7 @@ def grey_water_with_shore(image_bgr: NDArray[np.uint8]
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
             min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            colour_weights = COLOUR_SIGNS / (std.ravel()[[0, 1, 3]].astype(np.float32) + np.float32(1e-9))
+            colour_weights = weights[_COLOUR_CUES]  # the colour cues' signs are the score's
             shore = ShoreByColour(colour_score(smooth, cv2.LUT(grey8, _LOG_TABLE), colour_weights))
             return water.view(bool), full, threshold + 0.5, shore
         if not inside:

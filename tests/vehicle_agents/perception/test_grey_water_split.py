@@ -6,12 +6,15 @@ from __future__ import annotations
 import numpy as np
 
 from vehicle_agents.perception.grey_water import (
+    _COLOUR_CUES,
+    SCORE_SIGNS,
     TEXTURE_LEVELS_PER_UNIT,
     TEXTURE_OFFSET,
     _small_class_reaches_side,
     _texture_medians,
     minimum_error_threshold,
 )
+from vehicle_agents.perception.shore import COLOUR_SIGNS
 
 SIZE = 96
 
@@ -69,3 +72,7 @@ def test_texture_medians_are_the_classes_median_levels() -> None:
 
     expected = (median_level(texture8[high == 255]), median_level(texture8[high == 0]), median_level(texture8.ravel()))
     assert medians == expected
+
+
+def test_the_colour_score_weighs_its_cues_with_the_split_s_signs() -> None:
+    assert np.array_equal(SCORE_SIGNS[_COLOUR_CUES], COLOUR_SIGNS)
