@@ -34,7 +34,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from vehicle_agents.perception.shore import COLOUR_SIGNS, colour_score
+from vehicle_agents.perception.shore import colour_score
 
 MIN_TEXTURE_CONTRAST = 0.9
 """The water class must be smoother than the land class by this much in median log variance (a factor 2.5)."""
@@ -52,6 +52,8 @@ GLINT_ROUNDS = 2
 """How many times a rougher high class is taken as glint on water and the rest split again."""
 SCORE_SIGNS = np.array([1.0, -1.0, -1.0, 1.0], np.float32)
 """Signs of the standardised chromaticity, saturation, texture and brightness in the water score."""
+_COLOUR_CUES = np.array([0, 1, 3])
+"""The cues the colour score weighs (chromaticity, saturation, brightness), in the order of ``COLOUR_SIGNS``."""
 TEXTURE_LEVELS_PER_UNIT = 16.0
 TEXTURE_OFFSET = 16.0
 """Texture to 8 bits for its histograms: ``(log variance + 16) · 16`` (log variances -16..0; flat ground is near
@@ -61,7 +63,8 @@ _KERNEL5 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
 _SUM_ROW_3 = np.array([[1.0, 1.0, 1.0, 9.0]], np.float32)
 _BLUE_ROW_3 = np.array([[1.0, 0.0, 0.0, 3.0]], np.float32)
 _LEVELS = np.arange(256.0)
-_LEVELS_SQUARED = _LEVELS * _LEVELS
+_LEVEL_POWERS = np.stack((np.ones(256), _LEVELS, _LEVELS * _LEVELS))
+"""(3, 256): a histogram times these rows gives each level's count, sum and sum of squares."""
 _LOG_TABLE = np.log(np.arange(256, dtype=np.float32) + 1.0).reshape(1, 256)
 
 
@@ -72,8 +75,9 @@ def cue_stack(smooth: NDArray[np.uint8], grey8: NDArray[np.uint8]) -> NDArray[np
     pixels of the frame)."""
     log_envelope = cv2.LUT(cv2.min(grey8, cv2.medianBlur(grey8, 3)), _LOG_TABLE)
     mean = cv2.blur(log_envelope, (3, 3))
-    square = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
-    texture = cv2.log(cv2.max(cv2.subtract(square, cv2.multiply(mean, mean)), 1e-6))
+    texture = cv2.sqrBoxFilter(log_envelope, cv2.CV_32F, (3, 3))
+    cv2.subtract(texture, cv2.multiply(mean, mean, dst=mean), dst=texture)
+    cv2.log(cv2.max(texture, 1e-6, dst=texture), dst=texture)
     half = (smooth.shape[1] // 2, smooth.shape[0] // 2)
     small = cv2.resize(smooth, half, interpolation=cv2.INTER_AREA)
     small_float = small.astype(np.float32)
@@ -90,28 +94,32 @@ def cue_stack(smooth: NDArray[np.uint8], grey8: NDArray[np.uint8]) -> NDArray[np
 def minimum_error_threshold(score8: NDArray[np.uint8], mask: NDArray[np.uint8] | None = None) -> int | None:
     """Kittler-Illingworth threshold of an 8-bit image (pixels under ``mask`` only): the level t minimising
     ``P1 ln(σ1² / P1²) + P2 ln(σ2² / P2²)`` for the classes ≤ t and > t (two Gaussians fitted to the histogram;
-    counts instead of shares only add a constant). None when no split leaves both classes a spread."""
-    hist = cv2.calcHist([score8], [0], mask, [256], [0, 256]).ravel().astype(np.float64)
-    n1 = hist.cumsum()
+    counts instead of shares only add a constant). None when no split leaves both classes a spread.
+
+    Both classes' count, sum and sum of squares are rows of one (3, 2, levels) array, so each step of the
+    criterion is one array operation for both classes (the cost is per operation at 256 levels, not per level)."""
+    hist = cv2.calcHist([score8], [0], mask, [256], [0, 256]).reshape(1, 256)
+    cumulative = (hist * _LEVEL_POWERS).cumsum(axis=1)
+    n1 = cumulative[0]
     total = float(n1[-1])
     if total <= 0.0:
         return None
-    sum1 = (hist * _LEVELS).cumsum()
-    square1 = (hist * _LEVELS_SQUARED).cumsum()
-    sum1_total, square1_total = float(sum1[-1]), float(square1[-1])
     least = 0.002 * total
     # Each class holds more than ``least`` pixels on one run of levels, found by bisection: n1 grows with the level
     # and n2 = total − n1 shrinks (the counts are whole numbers, so n2 > least exactly when n1 < total − least).
     first, end = int(n1.searchsorted(least, "right")), int(n1.searchsorted(total - least, "left"))
     if first >= end:
         return None
-    n1, sum1, square1 = n1[first:end], sum1[first:end], square1[first:end]
-    n2 = total - n1
-    sum2, square2 = sum1_total - sum1, square1_total - square1
-    var1 = square1 / n1 - (sum1 / n1) ** 2
-    var2 = square2 / n2 - (sum2 / n2) ** 2
-    spread = (var1 > 0.5) & (var2 > 0.5)
-    cost = n1 * np.log(np.maximum(var1, 0.5) / (n1 * n1)) + n2 * np.log(np.maximum(var2, 0.5) / (n2 * n2))
+    classes = np.empty((3, 2, end - first))
+    below = cumulative[:, first:end]
+    classes[:, 0] = below
+    np.subtract(cumulative[:, -1:], below, out=classes[:, 1])
+    count = classes[0]
+    mean = classes[1] / count
+    var = classes[2] / count - mean ** 2
+    spread = (var[0] > 0.5) & (var[1] > 0.5)
+    terms = count * np.log(np.maximum(var, 0.5) / (count * count))
+    cost = terms[0] + terms[1]
     cost[~spread] = np.inf
     level = int(cost.argmin())
     return first + level if math.isfinite(cost[level]) else None
@@ -126,23 +134,25 @@ def _score8(score: NDArray[np.float32], keep: NDArray[np.uint8] | None) -> NDArr
 
 def _texture_medians(texture8: NDArray[np.uint8], high: NDArray[np.uint8]) -> tuple[float, float, float]:
     """Median texture [log variance] of the high class, of the low class and of the whole frame, from 8-bit
-    histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance)."""
-    high_hist = cv2.calcHist([texture8], [0], high, [256], [0, 256]).ravel()
-    all_hist = cv2.calcHist([texture8], [0], None, [256], [0, 256]).ravel()
-    high_cumulative, all_cumulative = high_hist.cumsum(), all_hist.cumsum()
+    histograms (``TEXTURE_LEVELS_PER_UNIT`` levels per unit of log variance). ``high`` is 0 or 255 per pixel, so one
+    two-dimensional histogram with two bins along it holds the low and the high class's histograms."""
+    by_class = cv2.calcHist([texture8, high], [0, 1], None, [256, 2], [0, 256, 0, 256]).cumsum(axis=0)
+    low_cumulative, high_cumulative = by_class[:, 0], by_class[:, 1]
     medians = []
-    for cumulative in (high_cumulative, all_cumulative - high_cumulative, all_cumulative):
+    for cumulative in (high_cumulative, low_cumulative, low_cumulative + high_cumulative):
         level = int(cumulative.searchsorted(0.5 * cumulative[-1])) if cumulative[-1] > 0 else 255
         medians.append(level / TEXTURE_LEVELS_PER_UNIT - TEXTURE_OFFSET)
     return medians[0], medians[1], medians[2]
 
 
-def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[NDArray[np.uint8], int | None]:
-    """(8-bit score, threshold or None): the minimum-error split, with glint taken out of it. A high class rougher
-    than the low one is glint; the score is stretched again over the rest (so the glint saturates at 255 and stays
-    on the water side) and split again."""
+def _split(score: NDArray[np.float32], texture: NDArray[np.float32]
+           ) -> tuple[NDArray[np.uint8], int | None, NDArray[np.uint8] | None]:
+    """(8-bit score, threshold or None, its high class or None when not formed): the minimum-error split, with glint
+    taken out of it. A high class rougher than the low one is glint; the score is stretched again over the rest (so
+    the glint saturates at 255 and stays on the water side) and split again."""
     score8 = _score8(score, None)
     threshold = minimum_error_threshold(score8)
+    high = None
     for _ in range(GLINT_ROUNDS):
         if threshold is None:
             break
@@ -157,8 +167,8 @@ def _split(score: NDArray[np.float32], texture: NDArray[np.float32]) -> tuple[ND
         found = minimum_error_threshold(stretched, low)
         if found is None:
             break
-        score8, threshold = stretched, found
-    return score8, threshold
+        score8, threshold, high = stretched, found, None
+    return score8, threshold, high
 
 
 @dataclass(frozen=True)
@@ -186,18 +196,19 @@ def grey_water_with_shore(image_bgr: NDArray[np.uint8]
     matrix[0, 4] = -float(weights @ mean.ravel().astype(np.float32))
     score = cv2.transform(cues, matrix)
     texture = np.ascontiguousarray(cues[..., 2])
-    score8, threshold = _split(score, texture)
+    score8, threshold, high = _split(score, texture)
     texture8 = cv2.convertScaleAbs(texture, alpha=TEXTURE_LEVELS_PER_UNIT, beta=TEXTURE_OFFSET * TEXTURE_LEVELS_PER_UNIT)
     full = cv2.resize(score8, (image_bgr.shape[1], image_bgr.shape[0]), interpolation=cv2.INTER_LINEAR)
-    high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
+    if high is None:
+        high = cv2.compare(score8, threshold if threshold is not None else 255, cv2.CMP_GT)
     water_tex, land_tex, frame_tex = _texture_medians(texture8, high)
     if threshold is not None:
-        water = _open_close(cv2.compare(full, threshold, cv2.CMP_GT) & np.uint8(1))
+        water = _open_close(cv2.threshold(full, threshold, 1, cv2.THRESH_BINARY)[1])
         fraction = cv2.countNonZero(water) / water.size
         inside = MIN_SPLIT_FRACTION <= fraction <= 1.0 - MIN_SPLIT_FRACTION and (
             min(fraction, 1.0 - fraction) >= MIN_ENCLOSED_FRACTION or _small_class_reaches_side(water, fraction))
         if inside and land_tex - water_tex >= MIN_TEXTURE_CONTRAST and water_tex < WATER_TEXTURE_MAX:
-            colour_weights = COLOUR_SIGNS / (std.ravel()[[0, 1, 3]].astype(np.float32) + np.float32(1e-9))
+            colour_weights = weights[_COLOUR_CUES]  # the colour cues' signs are the score's
             shore = ShoreByColour(colour_score(smooth, cv2.LUT(grey8, _LOG_TABLE), colour_weights))
             return water.view(bool), full, threshold + 0.5, shore
         if not inside:

@@ -128,11 +128,14 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
     n = h * w
     n_water, sum_x, sum_y = _water_moments(mask)
     # Pixel-centre moments (x = column + 0.5, y = row + 0.5); the whole image's are known in closed form.
-    water_px = np.array([sum_x / n_water + 0.5, sum_y / n_water + 0.5])
-    land_px = (np.array([n * w / 2.0, n * h / 2.0]) - water_px * n_water) / (n - n_water)
+    water_x, water_y = sum_x / n_water + 0.5, sum_y / n_water + 0.5
+    water_px = np.array([water_x, water_y])
+    land_px = np.array([(n * w / 2.0 - water_x * n_water) / (n - n_water),
+                        (n * h / 2.0 - water_y * n_water) / (n - n_water)])
     water_en, land_en = _ground_centroids(to_ground, mask, water_px, land_px, n_water)
     edge_en, shore_en = _shore_on_ground(mask, score, threshold, to_ground, shore)
-    normal = _edge_normal(edge_en, land_en - water_en)
+    (water_e, water_n), (land_e, land_n) = water_en.tolist(), land_en.tolist()
+    normal = _edge_normal(edge_en, land_e - water_e, land_n - water_n)
     if normal is None:
         return PerceptionResult.no_measurement(footprint_m)
     tangent = np.array([-normal[1], normal[0]])
@@ -143,7 +146,7 @@ def _edge_result(mask: NDArray[np.bool_], score: NDArray[np.uint8], threshold: f
         only_land=False,
         only_water=False,
         footprint_side_m=footprint_m,
-        midpoint_offset_en_m=0.5 * (water_en + land_en),
+        midpoint_offset_en_m=np.array([0.5 * (water_e + land_e), 0.5 * (water_n + land_n)]),
         water_centroid_en_m=water_en,
         land_centroid_en_m=land_en,
         edge_normal_en=normal,
@@ -174,9 +177,8 @@ def _shore_on_ground(mask: NDArray[np.bool_], score: NDArray[np.generic], thresh
         steps, points_px = steps.subset(kept), points_px[kept]
     shore_px = None if shore is None else shore_along_steps(steps, m8, shore.score)
     if shore_px is None:
-        return project_pixels(to_ground, points_px[:, 0], points_px[:, 1]), None
-    both_px = np.concatenate((points_px, shore_px))
-    both_en = project_pixels(to_ground, both_px[:, 0], both_px[:, 1])
+        return _project(to_ground, points_px), None
+    both_en = _project(to_ground, np.concatenate((points_px, shore_px)))
     return both_en[: len(points_px)], both_en[len(points_px):]
 
 
@@ -195,20 +197,25 @@ def _indices(n: int) -> NDArray[np.int64]:
     return np.arange(n, dtype=np.int64)
 
 
-def _edge_normal(edge_en: NDArray[np.float64], water_to_land: NDArray[np.float64]) -> NDArray[np.float64] | None:
+def _edge_normal(edge_en: NDArray[np.float64], to_land_e: float, to_land_n: float) -> NDArray[np.float64] | None:
     """Unit normal of the edge, from water to land: across the principal axis of the edge points (closed form for
-    2x2), turned towards the land centroid; the centroid line itself when there are too few points."""
-    normal = water_to_land
+    2x2), turned towards the land centroid (``to_land_e``, ``to_land_n``: water to land centroid [m]); the
+    centroid line itself when there are too few points. The two-element vectors are plain floats (an array
+    operation costs more than the arithmetic)."""
+    normal_e, normal_n = to_land_e, to_land_n
     if edge_en.shape[0] >= 2:
         d = edge_en - np.add.reduce(edge_en, axis=0) / edge_en.shape[0]  # the mean, without np.mean's wrapper
         sxx, syy, sxy = float(d[:, 0] @ d[:, 0]), float(d[:, 1] @ d[:, 1]), float(d[:, 0] @ d[:, 1])
         axis = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
-        pca_normal = np.array([-math.sin(axis), math.cos(axis)])
-        normal = pca_normal if float(pca_normal @ normal) >= 0.0 else -pca_normal
-    length = math.hypot(float(normal[0]), float(normal[1]))
+        pca_e, pca_n = -math.sin(axis), math.cos(axis)
+        if pca_e * normal_e + pca_n * normal_n >= 0.0:
+            normal_e, normal_n = pca_e, pca_n
+        else:
+            normal_e, normal_n = -pca_e, -pca_n
+    length = math.hypot(normal_e, normal_n)
     if length <= 0.0 or not math.isfinite(length):
         return None
-    return normal / length
+    return np.array([normal_e / length, normal_n / length])
 
 
 def _along_the_edge(edge_en: NDArray[np.float64], tangent: NDArray[np.float64], max_points: int
@@ -239,6 +246,20 @@ def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], w
     water_sum = to_ground[:2] @ water_moments
     land_sum = to_ground[:2] @ (all_moments - water_moments)
     return water_sum / n_water, land_sum / (height * width - n_water)
+
+
+def _project(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``comms.camera_projection.project_pixels`` of (K, 2) image points. On a level camera the homography has no
+    perspective row (its denominator is the constant ``g22`` exactly at every finite point), so the points are
+    divided by that constant: the same arithmetic, four array operations fewer."""
+    (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = homography.tolist()
+    x, y = xy[:, 0], xy[:, 1]
+    if g20 != 0.0 or g21 != 0.0:
+        return project_pixels(homography, x, y)
+    ground = np.empty(xy.shape)
+    np.divide(g00 * x + g01 * y + g02, g22, out=ground[:, 0])
+    np.divide(g10 * x + g11 * y + g12, g22, out=ground[:, 1])
+    return ground
 
 
 def _project_point(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -38,14 +38,26 @@ COLOUR_SIGNS = np.array([1.0, -1.0, 1.0], np.float32)
 """Signs of the standardised chromaticity, saturation and log brightness in the colour score (water positive)."""
 _OFFSETS = np.arange(-RING_PX, RING_PX + 2, dtype=np.int32)
 """Sample positions along a step's line, from its water pixel (0) towards its land pixel (1)."""
-_WATER_RING = _OFFSETS < -BAND_PX
-_LAND_RING = _OFFSETS > BAND_PX + 1
-_BAND = slice(RING_PX - BAND_PX, RING_PX + BAND_PX + 2)
+_RING_SAMPLES = RING_PX - BAND_PX
+"""The first and the last this many samples of a line are its water and its land ring."""
+_BAND = slice(_RING_SAMPLES, _RING_SAMPLES + 2 * BAND_PX + 2)
 """The band's samples: offsets -BAND_PX .. BAND_PX + 1."""
 _BAND_SAMPLES = 2 * BAND_PX + 2
+_LINE_SAMPLES = _OFFSETS.size
 _ONES_BAND = np.ones(_BAND_SAMPLES, np.int32)
 _PAD = RING_PX + 2
 """The frame is padded this wide so that no sample along a step's line falls outside it."""
+_LINE_STEPS = np.stack((1 - _OFFSETS, _OFFSETS))
+"""Sample positions along a step's line in strides from its first pixel, by whether that pixel is water (row 1:
+the line starts there) or land (row 0: the water pixel is the second one, and the line runs back over the first)."""
+_LAST_SAMPLE = np.clip(np.arange(_BAND_SAMPLES + 1) - 1, 0, _BAND_SAMPLES - 2)
+"""By the number of band samples that read water: the band sample before the crossing (the pair it lies between
+starts there)."""
+_ALONG_BASE = np.concatenate(([-BAND_PX - 0.5], _LAST_SAMPLE[1:-1] - BAND_PX, [BAND_PX + 1.5]))
+_ALONG_FRACTION = np.concatenate(([0.0], np.ones(_BAND_SAMPLES - 1), [0.0]))
+"""By the number of band samples that read water: the point's offset from the water pixel is the base plus the
+crossing's fraction times this (a band all water or all land puts the point half a pixel beyond its end)."""
+_CROSSING_PAIR = np.array([_RING_SAMPLES, _RING_SAMPLES + 1])
 _SUM_ROW = np.array([[1.0, 1.0, 1.0, 9.0]], np.float32)
 
 
@@ -56,11 +68,15 @@ def colour_score(smooth_bgr: NDArray[np.uint8], log_grey: NDArray[np.float32], w
     brightness ``log_grey``: the grey-water cues without the texture, summed in one pass per term."""
     as_float = smooth_bgr.astype(np.float32)
     blue, green, red = cv2.split(smooth_bgr)
-    spread = cv2.subtract(cv2.max(cv2.max(blue, green), red), cv2.min(cv2.min(blue, green), red))
-    numerator = cv2.transform(as_float, np.array([[weights[0], 0.0, 0.0, 3.0 * weights[0]]], np.float32))
-    numerator = cv2.scaleAdd(spread.astype(np.float32), float(weights[1]), numerator)
-    ratio = cv2.divide(numerator, cv2.transform(as_float, _SUM_ROW))
-    return cv2.scaleAdd(log_grey, float(weights[2]), ratio)
+    high = cv2.max(blue, green)
+    low = cv2.min(blue, green)
+    cv2.max(high, red, dst=high)
+    cv2.min(low, red, dst=low)
+    spread = cv2.subtract(high, low, dst=high).astype(np.float32)
+    score = cv2.transform(as_float, np.array([[weights[0], 0.0, 0.0, 3.0 * weights[0]]], np.float32))
+    cv2.scaleAdd(spread, float(weights[1]), score, dst=score)
+    cv2.divide(score, cv2.transform(as_float, _SUM_ROW), dst=score)
+    return cv2.scaleAdd(log_grey, float(weights[2]), score, dst=score)
 
 
 def shore_along_steps(steps: BoundarySteps, water: NDArray[np.uint8], score: NDArray[np.float32]
@@ -74,17 +90,16 @@ def shore_along_steps(steps: BoundarySteps, water: NDArray[np.uint8], score: NDA
     padded_width = water.shape[1] + 2 * _PAD
     first = steps.first_px
     along_x = steps.along_x
-    first_flat = (first[:, 1] + _PAD) * padded_width + (first[:, 0] + _PAD)
-    stride = np.full(first.shape[0], padded_width, np.int32)
+    count = first.shape[0]
+    first_flat = first @ np.array([1, padded_width], np.int32) + _PAD * (padded_width + 1)
+    stride = np.full(count, padded_width, np.int32)
     stride[:along_x] = 1
-    water_first = padded_water[first_flat] == 1
-    towards_land = np.where(water_first, stride, -stride)
-    water_flat = np.where(water_first, first_flat, first_flat + stride)
-    flat = water_flat[:, None] + towards_land[:, None] * _OFFSETS
+    water_first = padded_water[first_flat]
+    flat = first_flat[:, None] + stride[:, None] * _LINE_STEPS[water_first]
     samples = padded_score[flat]
     side = padded_water[flat]
-    water_ring = samples[_WATER_RING & (side == 1)]
-    land_ring = samples[_LAND_RING & (side == 0)]
+    water_ring = samples[:, :_RING_SAMPLES][side[:, :_RING_SAMPLES] == 1]
+    land_ring = samples[:, -_RING_SAMPLES:][side[:, -_RING_SAMPLES:] == 0]
     if water_ring.size < MIN_RING_SAMPLES or land_ring.size < MIN_RING_SAMPLES:
         return None
     water_level = float(water_ring.sum()) / water_ring.size
@@ -92,16 +107,13 @@ def shore_along_steps(steps: BoundarySteps, water: NDArray[np.uint8], score: NDA
     if water_level <= land_level:
         return None
     threshold = np.float32(0.5 * (water_level + land_level))
-    band = samples[:, _BAND]
-    n_water = (band > threshold).view(np.uint8) @ _ONES_BAND
-    last = np.minimum(np.maximum(n_water - 1, 0), _BAND_SAMPLES - 2)
-    rows = np.arange(first.shape[0])
-    a, b = band[rows, last], band[rows, last + 1]
-    frac = np.divide(threshold - a, b - a, out=np.full(a.shape, 0.5, np.float32), where=b != a)
-    along = (last - BAND_PX) + np.minimum(np.maximum(frac, 0.25), 0.75)
-    along[n_water == 0] = -BAND_PX - 0.5
-    along[n_water == _BAND_SAMPLES] = BAND_PX + 1.5
-    shift = np.where(water_first, along, 1.0 - along)
+    n_water = (samples[:, _BAND] > threshold).view(np.uint8) @ _ONES_BAND
+    pair = samples.reshape(-1)[(np.arange(0, count * _LINE_SAMPLES, _LINE_SAMPLES) + _LAST_SAMPLE[n_water])[:, None]
+                               + _CROSSING_PAIR]
+    a, b = pair[:, 0], pair[:, 1]
+    frac = np.divide(threshold - a, b - a, out=np.full(count, 0.5, np.float32), where=b != a)
+    along = _ALONG_BASE[n_water] + _ALONG_FRACTION[n_water] * np.minimum(np.maximum(frac, 0.25), 0.75)
+    shift = np.where(water_first.view(bool), along, 1.0 - along)
     point = first + 0.5
     point[:along_x, 0] += shift[:along_x]
     point[along_x:, 1] += shift[along_x:]

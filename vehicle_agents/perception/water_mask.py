@@ -34,6 +34,9 @@ MIN_SLIVER_BLUENESS = 12.0
 """... unless the small class is clearly blue: this far above neutral on average [DN] (water mirroring a blue
 sky lies 20-35 above it)."""
 _KERNEL3 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
+_MAX_TWICE_WITHOUT_BLUE = -2.0 * MAX_THRESHOLD_SHIFT + 1.0
+"""``2B − G − R`` at or below this rounds (half to even) to a blueness of at most ``NEUTRAL_BLUENESS −
+MAX_THRESHOLD_SHIFT``, below any threshold the blue cue uses: −31 halves to −15.5, which rounds to −16."""
 
 
 def segment_water(image_bgr: NDArray[np.uint8], ground_sample_m: float = math.nan
@@ -72,12 +75,20 @@ def segment_water_with_shore(image_bgr: NDArray[np.uint8], ground_sample_m: floa
     return grey
 
 
+def _twice_blueness(image_bgr: NDArray[np.uint8]) -> NDArray[np.int16]:
+    """``2B − G − R`` per pixel in 16-bit integers (exact): twice the blueness without its offset."""
+    blue, green, red = cv2.split(image_bgr)
+    return cv2.subtract(cv2.add(blue, blue, dtype=cv2.CV_16S), cv2.add(green, red, dtype=cv2.CV_16S))
+
+
 def _blueness(image_bgr: NDArray[np.uint8]) -> NDArray[np.uint8]:
     """``B − (G + R)/2 + 128`` per pixel, rounded half to even and saturated to 8 bits: ``2B − G − R`` in 16-bit
     integers, halved and offset in one conversion (the same bytes as the floating-point transform, on all 2^24
     colours, at two thirds of its cost)."""
-    blue, green, red = cv2.split(image_bgr)
-    twice = cv2.subtract(cv2.add(blue, blue, dtype=cv2.CV_16S), cv2.add(green, red, dtype=cv2.CV_16S))
+    return _halved_blueness(_twice_blueness(image_bgr))
+
+
+def _halved_blueness(twice: NDArray[np.int16]) -> NDArray[np.uint8]:
     return cv2.addWeighted(twice, 0.5, twice, 0.0, NEUTRAL_BLUENESS, dtype=cv2.CV_8U)
 
 
@@ -88,9 +99,10 @@ def _blue_water(image_bgr: NDArray[np.uint8], ground_sample_m: float
     Otsu's split is moved half-way between the class means, or to neutral when that lies far from it (Otsu split
     grass from dry grass beside a sliver of water); a frame whose pixels are all above neutral is water. None when
     the frame holds no blue water (the other cue decides)."""
-    blueness = _blueness(image_bgr)
-    if cv2.minMaxLoc(blueness)[1] <= NEUTRAL_BLUENESS - MAX_THRESHOLD_SHIFT:
+    twice = _twice_blueness(image_bgr)
+    if cv2.minMaxLoc(twice)[1] <= _MAX_TWICE_WITHOUT_BLUE:
         return None  # no pixel can be above any threshold this cue would use: no blue water
+    blueness = _halved_blueness(twice)
     _, binary = cv2.threshold(blueness, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
     n = binary.size
     n_high = cv2.countNonZero(binary)
