@@ -76,7 +76,6 @@ def replay(recorded: dict[str, object], repeat: int, evict_mib: int = 0) -> tupl
     """
     import numpy as np  # noqa: PLC0415
 
-    evicting = np.zeros(evict_mib * (1 << 20) // 8)
     from comms.keys import MissionKeys  # noqa: PLC0415
     from comms.messages import CameraFrame, MissionCommand, RadioBundle, encode  # noqa: PLC0415
     from comms.swarm_link import bundle_unpacker  # noqa: PLC0415
@@ -86,6 +85,7 @@ def replay(recorded: dict[str, object], repeat: int, evict_mib: int = 0) -> tupl
     from vehicle_agents.flight_phase import Phase, PhaseLimits  # noqa: PLC0415
     from vehicle_agents.perception.segmentation import perceive  # noqa: PLC0415
 
+    evicting = np.zeros(evict_mib * (1 << 20) // 8)
     vehicle = recorded["vehicle"]
     vid = vehicle.vehicle_id  # type: ignore[attr-defined]
     keys = MissionKeys("bench")
