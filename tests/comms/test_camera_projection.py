@@ -50,3 +50,16 @@ def test_body_rotation_is_orthonormal_and_yaw_turns_forward_clockwise_from_north
     np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-12)
     np.testing.assert_allclose(body_to_ned_matrix(0.0, 0.0, math.pi / 2) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
                                atol=1e-12)
+
+
+def test_points_project_as_the_full_homography_gives_them_level_and_tilted() -> None:
+    rng = np.random.default_rng(4)
+    points = rng.uniform(0.0, 128.0, (300, 2))
+    x, y = points[:, 0], points[:, 1]
+    for roll, pitch, yaw in ((0.0, 0.0, 0.0), (0.0, 0.0, 2.1), (0.0, 0.0, -0.7), (0.1, -0.2, 0.4)):
+        g = pixel_to_ground(128, 128, 60.0, 10.0, roll, pitch, yaw)
+        assert g is not None
+        w = g[2, 0] * x + g[2, 1] * y + g[2, 2]
+        east, north = g[0, 0] * x + g[0, 1] * y + g[0, 2], g[1, 0] * x + g[1, 1] * y + g[1, 2]
+        expected = np.stack((east / w, north / w), -1)
+        assert project_pixels(g, x, y).tobytes() == expected.tobytes()

@@ -177,8 +177,9 @@ def _shore_on_ground(mask: NDArray[np.bool_], score: NDArray[np.generic], thresh
         steps, points_px = steps.subset(kept), points_px[kept]
     shore_px = None if shore is None else shore_along_steps(steps, m8, shore.score)
     if shore_px is None:
-        return _project(to_ground, points_px), None
-    both_en = _project(to_ground, np.concatenate((points_px, shore_px)))
+        return project_pixels(to_ground, points_px[:, 0], points_px[:, 1]), None
+    both_px = np.concatenate((points_px, shore_px))
+    both_en = project_pixels(to_ground, both_px[:, 0], both_px[:, 1])
     return both_en[: len(points_px)], both_en[len(points_px):]
 
 
@@ -246,20 +247,6 @@ def _ground_centroids(to_ground: NDArray[np.float64], mask: NDArray[np.bool_], w
     water_sum = to_ground[:2] @ water_moments
     land_sum = to_ground[:2] @ (all_moments - water_moments)
     return water_sum / n_water, land_sum / (height * width - n_water)
-
-
-def _project(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``comms.camera_projection.project_pixels`` of (K, 2) image points. On a level camera the homography has no
-    perspective row (its denominator is the constant ``g22`` exactly at every finite point), so the points are
-    divided by that constant: the same arithmetic, four array operations fewer."""
-    (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = homography.tolist()
-    x, y = xy[:, 0], xy[:, 1]
-    if g20 != 0.0 or g21 != 0.0:
-        return project_pixels(homography, x, y)
-    ground = np.empty(xy.shape)
-    np.divide(g00 * x + g01 * y + g02, g22, out=ground[:, 0])
-    np.divide(g10 * x + g11 * y + g12, g22, out=ground[:, 1])
-    return ground
 
 
 def _project_point(homography: NDArray[np.float64], xy: NDArray[np.float64]) -> NDArray[np.float64]:

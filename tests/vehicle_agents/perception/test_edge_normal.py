@@ -1,4 +1,4 @@
-"""The edge's projection to the ground and its normal (pure functions of image points and the homography)."""
+"""The edge's normal: across its points, towards the land (a pure function of the edge points)."""
 
 from __future__ import annotations
 
@@ -6,18 +6,7 @@ import math
 
 import numpy as np
 
-from comms.camera_projection import pixel_to_ground, project_pixels
-from vehicle_agents.perception.segmentation import _edge_normal, _project
-
-
-def test_points_project_as_the_shared_camera_law_gives_them_level_and_tilted() -> None:
-    rng = np.random.default_rng(4)
-    points = rng.uniform(0.0, 128.0, (300, 2))
-    for roll, pitch, yaw in ((0.0, 0.0, 0.0), (0.0, 0.0, 2.1), (0.0, 0.0, -0.7), (0.1, -0.2, 0.4)):
-        to_ground = pixel_to_ground(128, 128, 60.0, 10.0, roll, pitch, yaw)
-        assert to_ground is not None
-        expected = project_pixels(to_ground, points[:, 0], points[:, 1])
-        assert _project(to_ground, points).tobytes() == expected.tobytes()
+from vehicle_agents.perception.segmentation import _edge_normal
 
 
 def test_the_normal_lies_across_the_points_and_towards_the_land() -> None:
